@@ -1,0 +1,415 @@
+/**
+ * @file ptvIntegrator.h
+ * @brief The per-pixel Monte Carlo estimator: one sample of one pixel per call (TracePixel).
+ *
+ * The volume is an absorbing/scattering medium whose extinction is given by the transfer
+ * function: a ray segment of length s has opacity CorrectOpacity(alpha, s / UnitDistance).
+ * Each call returns an independent, unbiased-in-expectation sample; averaging frames converges
+ * (RMSE ~ N^-1/2) to the front-to-back composite of the ray-marched volume under the shading
+ * model below. All randomness comes from MakeRng(y * Width + x, Frame, Seed), drawn in a fixed
+ * order, so results do not depend on threads, tiles or devices (up to FMA contraction).
+ *
+ * Algorithm for pixel (x, y):
+ *  1. rng draws, in order: jitter ux, uy; march offset xi; scattering threshold u' = 1 - u in
+ *     (0, 1] (always drawn). The camera ray through (x + ux, y + uy) (see ptvCamera.h) is moved
+ *     to index space (origin by WorldToIndex, unit direction as a vector), so index position =
+ *     oIdx + t dIdx with t in WORLD distance. [tStart, tEnd] = [max(tEnter, 0),
+ *     min(tExit, MaxDistance[pixel])] (camera inside the volume works; opaque geometry clips).
+ *  2. Samples at t_k = tStart + (k + xi) StepWorld, k = 0, 1, ... while t_k < tEnd (one jitter
+ *     per ray, so for an integer number of steps the sample count is fixed and stratified).
+ *     Per sample: s = trilinear scalar, (c, alpha) = table(s), alpha *= gradient-opacity factor
+ *     of the world-space gradient magnitude (if that table exists), a = CorrectOpacity(alpha,
+ *     StepWorld / UnitDistance).
+ *  3. First event: the first sample with a > 0 gives Depth1 = t, Position1 (world), Normal1 and
+ *     Albedo = c there.
+ *  4. Event (free-flight sampling): T <- T (1 - a) at every sample with a > 0, and with
+ *     Scattering = 1 the event is the first such sample where 1 - T >= u'. It lands on sample k
+ *     with probability T_k a_k (T_k = prod_{j<k} (1 - a_j)), so E[Alpha] and E[Radiance] are
+ *     exactly the front-to-back composite sum_k T_k a_k L_k. With Scattering = 0 the event is the
+ *     first event (an isosurface-like first hit). The march stops at the event.
+ *  5. No event before tEnd: Radiance 0, Alpha 0 (premultiplied; the background is composited
+ *     outside). Otherwise Alpha = 1, Depth2/Position2/Normal2 describe the event point x and
+ *     Radiance = direct + ambient + env with c = colour at x:
+ *     - normal n = normalize(NormalToWorld * -GradientIndex(x)), flipped so dot(n, -dir) >= 0;
+ *       zero (unshaded) when |GradientIndex| <= 1e-6 of the table's scalar range per voxel.
+ *     - direct: l = normalize(Light.Position - x) (shadow ray ends at the light) or -Direction.
+ *       With Shade and n != 0: f = c Diffuse max(0, n.l) + Specular max(0, n.h)^SpecularPower,
+ *       h = normalize(l - dir) (specular is not tinted by c); otherwise f = c Diffuse.
+ *       direct = T_s Light.Radiance f, where T_s is the transmittance estimate along l (below).
+ *       The shadow ray is only traced (and its random numbers only drawn) when
+ *       Light.Radiance f != 0.
+ *     - ambient: c Ambient Light.Radiance (VTK's flat ambient term, unoccluded).
+ *     - env: with AmbientOcclusion, one direction w and env = c Environment T_e(w), T_e the
+ *       transmittance estimate along w; without it env = c Environment (unoccluded).
+ *       Shade and n != 0: Lambertian, L = (c/pi) int_H E T(w) (n.w) dw; w ~ pdf (n.w)/pi, so
+ *       the estimator (c/pi) E T (n.w) / ((n.w)/pi) = c E T. Otherwise an isotropic phase
+ *       function, L = c int_S2 E T(w) / (4 pi) dw; w ~ uniform, pdf 1/(4 pi), estimator c E T.
+ *       Drawn (u1, u2 then the march) only when c Environment != 0.
+ *  6. Transmittance estimate (shadow and environment rays): from x along the unit direction,
+ *     samples at (j + xi_s) StepWorld ShadowStepScale (own jitter xi_s), j >= 0, up to the box
+ *     exit (or the light), T *= 1 - a_j with a_j corrected for the longer step. Russian
+ *     roulette after each absorbing sample while T < 0.05: survive with probability 1/2 and
+ *     double T, else return 0 -- unbiased (E = T) and terminating.
+ *  Empty-space skipping (every march): when the current sample's brick is empty (ptvOccupancy.h),
+ *  k jumps to the first sample index whose t is >= BrickExitT(); the skipped samples all have
+ *  a = 0 and draw no random numbers, so results are bit-identical with and without skipping.
+ *  Misses and no-event fields: Normal 0, Position 0, Depth = Camera.FarDistance, Albedo 0.
+ *
+ * Parameter guards: StepWorld <= 0 (or NaN) renders nothing; UnitDistance <= 0 means alpha is
+ * already per step (no correction); ShadowStepScale <= 0 means 2. x, y must lie in the image.
+ */
+#ifndef ptvIntegrator_h
+#define ptvIntegrator_h
+
+#include "ptvCamera.h"
+#include "ptvKernelCommon.h"
+#include "ptvOccupancy.h"
+#include "ptvRandom.h"
+#include "ptvSampling.h"
+#include "ptvTransferTable.h"
+#include "ptvVolumeGrid.h"
+
+namespace ptv
+{
+struct Light
+{
+  Vec3 Position;  ///< world position (positional lights)
+  Vec3 Direction; ///< direction the light travels (directional lights)
+  int Positional; ///< 1: point light at Position, 0: directional
+  Vec3 Radiance;  ///< colour * intensity
+};
+
+struct TraceParams
+{
+  VolumeGrid Volume;
+  TransferTable Transfer;
+  OccupancyGrid Occupancy; ///< Occupancy.Occupied == nullptr: no skipping
+  CameraRays Camera;
+  Light KeyLight;
+  Vec3 Environment;      ///< uniform environment radiance
+  float StepWorld;       ///< camera-ray step in world units (typically one voxel)
+  float ShadowStepScale; ///< shadow/environment step = StepWorld * ShadowStepScale (default 2)
+  float UnitDistance;    ///< ScalarOpacityUnitDistance (world units)
+  int Shade;
+  float Ambient, Diffuse, Specular, SpecularPower;
+  int Scattering;       ///< 1: event at a random opacity threshold, 0: first non-transparent sample
+  int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
+  const float* MaxDistance; ///< per-pixel ray-length limit (world distance), nullptr = none
+  uint32_t Seed;
+  uint32_t Frame;
+};
+
+struct PixelSample
+{
+  Vec3 Radiance; ///< premultiplied radiance (0 without an event)
+  float Alpha;   ///< 1 with an event, else 0
+  Vec3 Albedo;   ///< colour at the first event
+  float Depth1;  ///< first event: ray distance
+  Vec3 Position1;
+  Vec3 Normal1;
+  float Depth2; ///< sampled (scattering) event: ray distance
+  Vec3 Position2;
+  Vec3 Normal2;
+};
+
+constexpr float kRouletteThreshold = 0.05f;
+
+/// Ray parameter of march sample k; the single expression every march uses.
+PTV_HD PTV_INLINE float MarchSampleT(float tStart, float xi, float step, int k)
+{
+  return tStart + (static_cast<float>(k) + xi) * step;
+}
+
+/// An upper bound on the number of samples in [tStart, tEnd) (clamped to 2^30).
+PTV_HD PTV_INLINE int MarchSampleLimit(float tStart, float tEnd, float xi, float step)
+{
+  const float n = ceilf((tEnd - tStart) / step - xi) + 2.f;
+  return static_cast<int>(Clamp(n, 0.f, 1073741824.f));
+}
+
+/// Smallest k in [kMin, kLimit] with MarchSampleT(k) >= tTarget (kLimit if none).
+PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
+  float tStart, float xi, float step, float tTarget, int kMin, int kLimit)
+{
+  const float estimate = ceilf((tTarget - tStart) / step - xi);
+  if (!(estimate < static_cast<float>(kLimit)))
+  {
+    return kLimit;
+  }
+  int k = estimate > static_cast<float>(kMin) ? static_cast<int>(estimate) : kMin;
+  while (k > kMin && MarchSampleT(tStart, xi, step, k - 1) >= tTarget)
+  {
+    --k;
+  }
+  while (k < kLimit && MarchSampleT(tStart, xi, step, k) < tTarget)
+  {
+    ++k;
+  }
+  return k;
+}
+
+/// If the brick of pIdx is empty, advance k past it (to the first sample at or after the brick
+/// exit) and return true; otherwise leave k alone and return false.
+PTV_HD PTV_INLINE bool SkipEmptyBrick(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec3 pIdx,
+  float t, float tStart, float xi, float step, int kLimit, int& k)
+{
+  if (!occ.Occupied || !BrickEmpty(occ, pIdx))
+  {
+    return false;
+  }
+  const float tExit = BrickExitT(occ, oIdx, dIdx, t);
+  k = FirstSampleAtOrAfter(tStart, xi, step, tExit, k + 1, kLimit);
+  return true;
+}
+
+/// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
+/// gradient-opacity factor.
+PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
+{
+  TransferSample ts = LookupTransfer(p.Transfer, SampleTrilinear(p.Volume, pIdx));
+  if (ts.Opacity > 0.f && HasGradientOpacity(p.Transfer))
+  {
+    const Vec3 gWorld = MultiplyMatrix3(p.Volume.NormalToWorld, GradientIndex(p.Volume, pIdx));
+    ts.Opacity *= LookupGradientOpacity(p.Transfer, Length(gWorld));
+  }
+  return ts;
+}
+
+/// World-space unit normal at pIdx facing against viewDir, or 0 where the gradient is ~0.
+PTV_HD PTV_INLINE Vec3 ShadingNormal(const TraceParams& p, Vec3 pIdx, Vec3 viewDir)
+{
+  const Vec3 g = GradientIndex(p.Volume, pIdx);
+  const float range = fabsf(p.Transfer.ScalarMax - p.Transfer.ScalarMin);
+  if (!(Length(g) > 1e-6f * (range > 0.f ? range : 1.f)))
+  {
+    return MakeVec3(0.f, 0.f, 0.f);
+  }
+  Vec3 n = Normalize(MultiplyMatrix3(p.Volume.NormalToWorld, -g));
+  if (Dot(n, viewDir) > 0.f)
+  {
+    n = -n;
+  }
+  return n;
+}
+
+PTV_HD PTV_INLINE float StepOverUnit(const TraceParams& p, float step)
+{
+  return p.UnitDistance > 0.f ? step / p.UnitDistance : 1.f;
+}
+
+/**
+ * Unbiased transmittance estimate from world point x along unit direction w up to distance
+ * tMax (or the box exit): jittered march with step StepWorld * ShadowStepScale, empty-space
+ * skipping and Russian roulette (see the file comment, step 6).
+ */
+PTV_HD PTV_INLINE float EstimateTransmittance(
+  const TraceParams& p, Vec3 x, Vec3 w, float tMax, Rng& rng)
+{
+  const float xi = NextFloat(rng);
+  const float step = p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
+  const float stepOverUnit = StepOverUnit(p, step);
+  const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, x);
+  const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, w);
+  float tEnter, tExit;
+  if (!IntersectBox(p.Volume, oIdx, dIdx, tEnter, tExit))
+  {
+    return 1.f;
+  }
+  const float tStart = fmaxf(tEnter, 0.f);
+  const float tEnd = fminf(tExit, tMax);
+  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
+  float T = 1.f;
+  int k = 0;
+  while (k < kLimit)
+  {
+    const float t = MarchSampleT(tStart, xi, step, k);
+    if (!(t < tEnd))
+    {
+      break;
+    }
+    const Vec3 pIdx = oIdx + dIdx * t;
+    if (SkipEmptyBrick(p.Occupancy, oIdx, dIdx, pIdx, t, tStart, xi, step, kLimit, k))
+    {
+      continue;
+    }
+    const float a = CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
+    if (a > 0.f)
+    {
+      T *= 1.f - a;
+      if (!(T > 0.f))
+      {
+        return 0.f;
+      }
+      while (T < kRouletteThreshold)
+      {
+        if (NextFloat(rng) >= 0.5f)
+        {
+          return 0.f;
+        }
+        T *= 2.f;
+      }
+    }
+    ++k;
+  }
+  return T;
+}
+
+/// The values of a pixel without any volume contribution.
+PTV_HD PTV_INLINE PixelSample MissSample(float farDistance)
+{
+  const Vec3 zero = MakeVec3(0.f, 0.f, 0.f);
+  PixelSample s;
+  s.Radiance = zero;
+  s.Alpha = 0.f;
+  s.Albedo = zero;
+  s.Depth1 = farDistance;
+  s.Position1 = zero;
+  s.Normal1 = zero;
+  s.Depth2 = farDistance;
+  s.Position2 = zero;
+  s.Normal2 = zero;
+  return s;
+}
+
+/// Radiance leaving event point x (world) with colour c and normal n towards -dir (step 5).
+PTV_HD PTV_INLINE Vec3 ShadeEvent(
+  const TraceParams& p, Vec3 x, Vec3 dir, Vec3 c, Vec3 n, Rng& rng)
+{
+  const Light& light = p.KeyLight;
+  const bool shaded = p.Shade && !IsZero(n);
+
+  // Direct light with a stochastic shadow ray.
+  Vec3 l;
+  float lightDistance = kTMax;
+  if (light.Positional)
+  {
+    const Vec3 toLight = light.Position - x;
+    lightDistance = Length(toLight);
+    l = Normalize(toLight);
+  }
+  else
+  {
+    l = Normalize(-light.Direction);
+  }
+  Vec3 f;
+  if (shaded)
+  {
+    const float ndl = fmaxf(0.f, Dot(n, l));
+    const float ndh = fmaxf(0.f, Dot(n, Normalize(l - dir)));
+    const float spec = ndh > 0.f ? p.Specular * powf(ndh, p.SpecularPower) : 0.f;
+    f = c * (p.Diffuse * ndl) + MakeVec3(spec, spec, spec);
+  }
+  else
+  {
+    f = c * p.Diffuse;
+  }
+  Vec3 radiance = MakeVec3(0.f, 0.f, 0.f);
+  const Vec3 directCoefficient = light.Radiance * f;
+  if (!IsZero(directCoefficient) && !IsZero(l))
+  {
+    radiance += directCoefficient * EstimateTransmittance(p, x, l, lightDistance, rng);
+  }
+
+  // VTK's flat ambient term.
+  radiance += c * p.Ambient * light.Radiance;
+
+  // Environment: (c/pi) int E T cos / (cos/pi) = c E T, or isotropic (c/4pi) int E T / (1/4pi).
+  const Vec3 envCoefficient = c * p.Environment;
+  if (!p.AmbientOcclusion)
+  {
+    radiance += envCoefficient;
+  }
+  else if (!IsZero(envCoefficient))
+  {
+    const float u1 = NextFloat(rng);
+    const float u2 = NextFloat(rng);
+    const Vec3 w = shaded ? SampleCosineHemisphere(n, u1, u2) : SampleUniformSphere(u1, u2);
+    radiance += envCoefficient * EstimateTransmittance(p, x, w, kTMax, rng);
+  }
+  return radiance;
+}
+
+/// One Monte Carlo sample of pixel (x, y) for frame p.Frame (see the file comment).
+PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
+{
+  PixelSample out = MissSample(p.Camera.FarDistance);
+  const uint32_t pixel =
+    static_cast<uint32_t>(y) * static_cast<uint32_t>(p.Camera.Width) + static_cast<uint32_t>(x);
+  Rng rng = MakeRng(pixel, p.Frame, p.Seed);
+  const float jx = NextFloat(rng);
+  const float jy = NextFloat(rng);
+  const float xi = NextFloat(rng);
+  const float threshold = 1.f - NextFloat(rng); // in (0, 1]
+
+  const float step = p.StepWorld;
+  if (!(step > 0.f))
+  {
+    return out;
+  }
+  Vec3 origin, dir;
+  GenerateRay(p.Camera, static_cast<float>(x) + jx, static_cast<float>(y) + jy, origin, dir);
+  const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, origin);
+  const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, dir);
+  float tEnter, tExit;
+  if (!IntersectBox(p.Volume, oIdx, dIdx, tEnter, tExit))
+  {
+    return out;
+  }
+  const float tStart = fmaxf(tEnter, 0.f);
+  const float tEnd = p.MaxDistance ? fminf(tExit, p.MaxDistance[pixel]) : tExit;
+  if (!(tStart < tEnd))
+  {
+    return out;
+  }
+
+  const float stepOverUnit = StepOverUnit(p, step);
+  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
+  float T = 1.f;
+  bool haveFirst = false;
+  int kFirst = -1;
+  int k = 0;
+  while (k < kLimit)
+  {
+    const float t = MarchSampleT(tStart, xi, step, k);
+    if (!(t < tEnd))
+    {
+      break;
+    }
+    const Vec3 pIdx = oIdx + dIdx * t;
+    if (SkipEmptyBrick(p.Occupancy, oIdx, dIdx, pIdx, t, tStart, xi, step, kLimit, k))
+    {
+      continue;
+    }
+    const TransferSample ts = ClassifyPoint(p, pIdx);
+    const float a = CorrectOpacity(ts.Opacity, stepOverUnit);
+    if (a > 0.f)
+    {
+      if (!haveFirst)
+      {
+        haveFirst = true;
+        kFirst = k;
+        out.Depth1 = t;
+        out.Position1 = origin + dir * t;
+        out.Normal1 = ShadingNormal(p, pIdx, dir);
+        out.Albedo = ts.Color;
+      }
+      T *= 1.f - a;
+      if (!p.Scattering || 1.f - T >= threshold)
+      {
+        const Vec3 event = origin + dir * t;
+        const Vec3 n = k == kFirst ? out.Normal1 : ShadingNormal(p, pIdx, dir);
+        out.Alpha = 1.f;
+        out.Depth2 = t;
+        out.Position2 = event;
+        out.Normal2 = n;
+        out.Radiance = ShadeEvent(p, event, dir, ts.Color, n, rng);
+        return out;
+      }
+    }
+    ++k;
+  }
+  return out;
+}
+}
+
+#endif

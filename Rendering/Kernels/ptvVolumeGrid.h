@@ -1,0 +1,174 @@
+/**
+ * @file ptvVolumeGrid.h
+ * @brief A scalar volume as a flat float array plus its world<->index mapping; sampling and
+ *        ray/box intersection in index space.
+ *
+ * Index space: voxel (i, j, k) sits at the point (i, j, k); the volume occupies the box
+ * [0, Dims-1] on each axis and voxel values are stored x fastest:
+ * Scalars[i + Dims[0] * (j + Dims[1] * k)] (64-bit offsets, so > 2^31 voxels are fine).
+ *
+ * WorldToIndex is a row-major 3x4 affine matrix [M | t]: index = M * world + t.
+ * NormalToWorld is (A^{-1})^T with A = M^{-1} the index-to-world linear part, i.e. simply M^T:
+ * it maps an index-space gradient (d scalar / d index) to the world-space gradient
+ * (d scalar / d world), whose direction is the normal and whose length is the gradient magnitude
+ * in world units. ComputeNormalToWorld() fills it from WorldToIndex.
+ *
+ * Ray parameters: the integrator transforms a unit world direction with TransformVector(), so
+ * the index-space ray o + t d keeps t in world distance units.
+ */
+#ifndef ptvVolumeGrid_h
+#define ptvVolumeGrid_h
+
+#include "ptvKernelCommon.h"
+
+namespace ptv
+{
+struct VolumeGrid
+{
+  const float* Scalars;  ///< Dims[0]*Dims[1]*Dims[2] values, x fastest
+  int Dims[3];           ///< voxel counts, each >= 1
+  float WorldToIndex[12]; ///< row-major 3x4 affine: index = M world + t
+  float NormalToWorld[9]; ///< row-major 3x3 (A^{-1})^T = M^T: index gradient -> world gradient
+};
+
+/// m * (p, 1) for a row-major 3x4 matrix.
+PTV_HD PTV_INLINE Vec3 TransformPoint(const float m[12], Vec3 p)
+{
+  return MakeVec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+    m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7], m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+}
+
+/// m * (v, 0) for a row-major 3x4 matrix (the translation column is ignored).
+PTV_HD PTV_INLINE Vec3 TransformVector(const float m[12], Vec3 v)
+{
+  return MakeVec3(m[0] * v.x + m[1] * v.y + m[2] * v.z, m[4] * v.x + m[5] * v.y + m[6] * v.z,
+    m[8] * v.x + m[9] * v.y + m[10] * v.z);
+}
+
+/// m * v for a row-major 3x3 matrix.
+PTV_HD PTV_INLINE Vec3 MultiplyMatrix3(const float m[9], Vec3 v)
+{
+  return MakeVec3(m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
+    m[6] * v.x + m[7] * v.y + m[8] * v.z);
+}
+
+/// Set g.NormalToWorld = M^T from g.WorldToIndex = [M | t].
+PTV_HD PTV_INLINE void ComputeNormalToWorld(VolumeGrid& g)
+{
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      g.NormalToWorld[3 * r + c] = g.WorldToIndex[4 * c + r];
+    }
+  }
+}
+
+PTV_HD PTV_INLINE float VoxelValue(const VolumeGrid& g, int i, int j, int k)
+{
+  return g.Scalars[static_cast<int64_t>(i) +
+    static_cast<int64_t>(g.Dims[0]) * (static_cast<int64_t>(j) +
+                                         static_cast<int64_t>(g.Dims[1]) * k)];
+}
+
+/// Lower cell corner i0, upper corner i1 and weight f for coordinate x on an axis of n voxels
+/// (clamp-to-edge: x is first clamped to [0, n-1]; NaN behaves as 0).
+PTV_HD PTV_INLINE void CellCoordinate(float x, int n, int& i0, int& i1, float& f)
+{
+  const float xc = Clamp(x, 0.f, static_cast<float>(n - 1));
+  i0 = static_cast<int>(xc); // xc >= 0, so truncation is floor
+  if (i0 > n - 2)
+  {
+    i0 = n >= 2 ? n - 2 : 0;
+  }
+  i1 = i0 + 1 < n ? i0 + 1 : i0;
+  f = xc - static_cast<float>(i0);
+}
+
+/// Trilinear interpolation at an index-space point, clamp-to-edge outside [0, Dims-1].
+PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
+{
+  int i0, i1, j0, j1, k0, k1;
+  float fx, fy, fz;
+  CellCoordinate(p.x, g.Dims[0], i0, i1, fx);
+  CellCoordinate(p.y, g.Dims[1], j0, j1, fy);
+  CellCoordinate(p.z, g.Dims[2], k0, k1, fz);
+  const float c00 = Lerp(VoxelValue(g, i0, j0, k0), VoxelValue(g, i1, j0, k0), fx);
+  const float c10 = Lerp(VoxelValue(g, i0, j1, k0), VoxelValue(g, i1, j1, k0), fx);
+  const float c01 = Lerp(VoxelValue(g, i0, j0, k1), VoxelValue(g, i1, j0, k1), fx);
+  const float c11 = Lerp(VoxelValue(g, i0, j1, k1), VoxelValue(g, i1, j1, k1), fx);
+  return Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
+}
+
+/// Value of the voxel nearest to an index-space point (clamped to the grid).
+PTV_HD PTV_INLINE float SampleNearest(const VolumeGrid& g, Vec3 p)
+{
+  const int i = static_cast<int>(Clamp(p.x + 0.5f, 0.f, static_cast<float>(g.Dims[0] - 1)));
+  const int j = static_cast<int>(Clamp(p.y + 0.5f, 0.f, static_cast<float>(g.Dims[1] - 1)));
+  const int k = static_cast<int>(Clamp(p.z + 0.5f, 0.f, static_cast<float>(g.Dims[2] - 1)));
+  return VoxelValue(g, i, j, k);
+}
+
+/**
+ * Index-space gradient (scalar units per voxel) by central differences of *trilinear* samples
+ * one voxel either side: g_x = (S(p + e_x) - S(p - e_x)) / 2, etc. Exact for fields linear in
+ * the voxel data; continuous in p. Samples outside the grid clamp to the edge, so on the
+ * boundary the difference is one-sided and halved. Map to world with MultiplyMatrix3(
+ * g.NormalToWorld, ...). Costs six trilinear samples.
+ */
+PTV_HD PTV_INLINE Vec3 GradientIndex(const VolumeGrid& g, Vec3 p)
+{
+  const float gx = SampleTrilinear(g, MakeVec3(p.x + 1.f, p.y, p.z)) -
+    SampleTrilinear(g, MakeVec3(p.x - 1.f, p.y, p.z));
+  const float gy = SampleTrilinear(g, MakeVec3(p.x, p.y + 1.f, p.z)) -
+    SampleTrilinear(g, MakeVec3(p.x, p.y - 1.f, p.z));
+  const float gz = SampleTrilinear(g, MakeVec3(p.x, p.y, p.z + 1.f)) -
+    SampleTrilinear(g, MakeVec3(p.x, p.y, p.z - 1.f));
+  return MakeVec3(0.5f * gx, 0.5f * gy, 0.5f * gz);
+}
+
+/// Clip [t0, t1] by the slab lo <= o + t d <= hi on one axis; false when the slab is missed.
+PTV_HD PTV_INLINE bool ClipSlab(float o, float d, float lo, float hi, float& t0, float& t1)
+{
+  if (d == 0.f)
+  {
+    return o >= lo && o <= hi; // parallel: inside the slab for all t, or never
+  }
+  const float inv = 1.f / d;
+  float ta = (lo - o) * inv;
+  float tb = (hi - o) * inv;
+  if (ta > tb)
+  {
+    const float tmp = ta;
+    ta = tb;
+    tb = tmp;
+  }
+  t0 = fmaxf(t0, ta);
+  t1 = fminf(t1, tb);
+  return t0 <= t1;
+}
+
+/**
+ * Slab-method intersection of the line o + t d (index space) with the box [0, Dims-1].
+ * On success tEnter <= tExit bound the overlap (tEnter may be negative when o is inside);
+ * returns false when the line misses the box or the box lies entirely behind (tExit < 0).
+ * Zero direction components are handled exactly (inside/outside that slab for all t).
+ */
+PTV_HD PTV_INLINE bool IntersectBox(
+  const VolumeGrid& g, Vec3 o, Vec3 d, float& tEnter, float& tExit)
+{
+  float t0 = -kTMax;
+  float t1 = kTMax;
+  if (!ClipSlab(o.x, d.x, 0.f, static_cast<float>(g.Dims[0] - 1), t0, t1) ||
+    !ClipSlab(o.y, d.y, 0.f, static_cast<float>(g.Dims[1] - 1), t0, t1) ||
+    !ClipSlab(o.z, d.z, 0.f, static_cast<float>(g.Dims[2] - 1), t0, t1) || t1 < 0.f)
+  {
+    return false;
+  }
+  tEnter = t0;
+  tExit = t1;
+  return true;
+}
+}
+
+#endif
