@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# README command 1: set everything up and render the bundled default (head CT, paper preset)
+# to out/head.png. Extra arguments go to scripts/render.py (see --help there).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${PTV_BUILD_DIR:-$ROOT/build}"
+bash "$ROOT/scripts/setup.sh"
+export PYTHONPATH="$BUILD/python${PYTHONPATH:+:$PYTHONPATH}"
+xvfb-run -a -s "-screen 0 1024x768x24" "$ROOT/.venv/bin/python" "$ROOT/scripts/render.py" \
+  --dataset head --output "$ROOT/out/head.png" "$@"
