@@ -1,0 +1,667 @@
+// The only translation unit of the project that includes OpenVDB headers (see ptvOpenVDBGrid.h).
+#include "ptvOpenVDBGrid.h"
+
+#include <openvdb/Exceptions.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+
+#include <unistd.h> // for getpid
+
+namespace ptv
+{
+namespace
+{
+
+//------------------------------------------------------------------------------
+void InitializeOpenVDB()
+{
+  static std::once_flag once;
+  std::call_once(once, []() { openvdb::initialize(); });
+}
+
+//------------------------------------------------------------------------------
+std::string Quote(const std::string& text)
+{
+  return "'" + text + "'";
+}
+
+//------------------------------------------------------------------------------
+std::string Where(const std::string& file, const std::string& gridName)
+{
+  return "grid " + Quote(gridName) + " of file " + Quote(file);
+}
+
+//------------------------------------------------------------------------------
+// Check that the file can be opened for reading before handing it to OpenVDB, whose own message
+// for a missing file does not say why.
+bool CheckReadable(const std::string& file, std::string& error)
+{
+  if (file.empty())
+  {
+    error = "no file name given";
+    return false;
+  }
+  std::error_code ec;
+  const std::filesystem::path path(file);
+  if (!std::filesystem::exists(path, ec))
+  {
+    error = "file " + Quote(file) + " does not exist";
+    return false;
+  }
+  if (std::filesystem::is_directory(path, ec))
+  {
+    error = Quote(file) + " is a directory, not an OpenVDB file";
+    return false;
+  }
+  std::FILE* probe = std::fopen(file.c_str(), "rb");
+  if (!probe)
+  {
+    error = "cannot open file " + Quote(file) + ": " + std::strerror(errno);
+    return false;
+  }
+  std::fclose(probe);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Opens a VDB file without delayed loading (no memory mapping, so a truncated file fails while
+// reading instead of later, on first access to the voxels).
+struct OpenFile
+{
+  explicit OpenFile(const std::string& file)
+    : File(file)
+  {
+    this->File.open(/*delayLoad=*/false);
+  }
+  ~OpenFile()
+  {
+    try
+    {
+      if (this->File.isOpen())
+      {
+        this->File.close();
+      }
+    }
+    catch (...)
+    {
+    }
+  }
+  OpenFile(const OpenFile&) = delete;
+  OpenFile& operator=(const OpenFile&) = delete;
+
+  openvdb::io::File File;
+};
+
+//------------------------------------------------------------------------------
+GridInfo MakeGridInfo(const openvdb::GridBase& grid)
+{
+  GridInfo info;
+  info.Name = grid.getName();
+  info.ValueType = grid.valueType();
+  info.GridClass = openvdb::GridBase::gridClassToString(grid.getGridClass());
+  if (auto count =
+        grid.getMetadata<openvdb::Int64Metadata>(openvdb::GridBase::META_FILE_VOXEL_COUNT))
+  {
+    info.ActiveVoxelCount = static_cast<long long>(count->value());
+  }
+  auto bmin = grid.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MIN);
+  auto bmax = grid.getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MAX);
+  if (bmin && bmax)
+  {
+    info.HasBBox = true;
+    for (int c = 0; c < 3; ++c)
+    {
+      info.BBoxMin[c] = bmin->value()[c];
+      info.BBoxMax[c] = bmax->value()[c];
+    }
+  }
+  return info;
+}
+
+//------------------------------------------------------------------------------
+std::vector<GridInfo> ListOpenFile(openvdb::io::File& vdb)
+{
+  std::vector<GridInfo> grids;
+  openvdb::GridPtrVecPtr metas = vdb.readAllGridMetadata();
+  if (metas)
+  {
+    for (const auto& grid : *metas)
+    {
+      if (grid)
+      {
+        grids.push_back(MakeGridInfo(*grid));
+      }
+    }
+  }
+  return grids;
+}
+
+//------------------------------------------------------------------------------
+// Find @a gridName in @a grids and check that it is a scalar grid.
+bool FindScalarGrid(const std::string& file, const std::string& gridName,
+  const std::vector<GridInfo>& grids, GridInfo& found, std::string& error)
+{
+  auto it = std::find_if(grids.begin(), grids.end(),
+    [&gridName](const GridInfo& info) { return info.Name == gridName; });
+  if (it == grids.end())
+  {
+    error = "no grid named " + Quote(gridName) + " in file " + Quote(file) +
+      "; available grids: " + DescribeGrids(grids);
+    return false;
+  }
+  if (!it->IsScalar())
+  {
+    error = "grid " + Quote(gridName) + " of file " + Quote(file) + " is of type " +
+      it->ValueType + "; only scalar float/double grids are supported";
+    return false;
+  }
+  found = *it;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Uniform voxel size of @a grid's transform, or false (with a message naming the transform) for
+// non-linear, rotated, sheared, mirrored or non-uniformly scaled transforms.
+bool UniformVoxelSize(const openvdb::GridBase& grid, const std::string& file, double& voxelSize,
+  std::string& error)
+{
+  const openvdb::math::Transform& xform = grid.constTransform();
+  const std::string where = Where(file, grid.getName());
+  if (!xform.isLinear())
+  {
+    error = where + " uses a non-linear transform (" + xform.mapType() +
+      "); only uniform-scale linear transforms are supported";
+    return false;
+  }
+  const openvdb::Mat4d m = xform.baseMap()->getAffineMap()->getMat4();
+  const double s = m[0][0];
+  bool uniform = std::isfinite(s) && s > 0.0;
+  for (int r = 0; r < 3 && uniform; ++r)
+  {
+    for (int c = 0; c < 3 && uniform; ++c)
+    {
+      const double expected = (r == c) ? s : 0.0;
+      uniform = std::abs(m[r][c] - expected) <= 1e-9 * s;
+    }
+  }
+  if (!uniform)
+  {
+    const openvdb::Vec3d vs = xform.voxelSize();
+    std::ostringstream msg;
+    msg << where << " has a transform of type " << xform.mapType() << " (voxel size " << vs[0]
+        << " x " << vs[1] << " x " << vs[2]
+        << ") that is not a uniform scale plus translation (non-uniform, rotated, sheared or "
+           "mirrored); only uniform-scale linear transforms are supported";
+    error = msg.str();
+    return false;
+  }
+  voxelSize = s;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void SetWorldGeometry(const openvdb::GridBase& grid, double voxelSize, DenseVolume& volume)
+{
+  const openvdb::Vec3d origin = grid.constTransform().indexToWorld(
+    openvdb::Coord(volume.IndexMin[0], volume.IndexMin[1], volume.IndexMin[2]));
+  for (int c = 0; c < 3; ++c)
+  {
+    volume.Origin[c] = origin[c];
+    volume.Spacing[c] = voxelSize;
+  }
+}
+
+//------------------------------------------------------------------------------
+template <typename GridT>
+void CopyToDense(const openvdb::GridBase& base, DenseVolume& volume)
+{
+  using ValueT = typename GridT::ValueType;
+  const GridT& grid = static_cast<const GridT&>(base);
+  const openvdb::Coord lo(volume.IndexMin[0], volume.IndexMin[1], volume.IndexMin[2]);
+  const openvdb::Coord hi(lo[0] + volume.Dims[0] - 1, lo[1] + volume.Dims[1] - 1,
+    lo[2] + volume.Dims[2] - 1);
+  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(
+    openvdb::CoordBBox(lo, hi), static_cast<ValueT*>(volume.Data));
+  openvdb::tools::copyToDense(grid, dense);
+}
+
+//------------------------------------------------------------------------------
+template <typename GridT>
+openvdb::GridBase::Ptr MakeGrid(
+  const std::string& name, const DenseVolume& volume, double background)
+{
+  using ValueT = typename GridT::ValueType;
+  typename GridT::Ptr grid = GridT::create(static_cast<ValueT>(background));
+  const openvdb::Coord lo(volume.IndexMin[0], volume.IndexMin[1], volume.IndexMin[2]);
+  const openvdb::Coord hi(lo[0] + volume.Dims[0] - 1, lo[1] + volume.Dims[1] - 1,
+    lo[2] + volume.Dims[2] - 1);
+  // copyFromDense only reads the values; Dense has no read-only flavour.
+  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(
+    openvdb::CoordBBox(lo, hi), static_cast<ValueT*>(const_cast<void*>(volume.Data)));
+  // Tolerance 0: exactly the background value becomes inactive background.
+  openvdb::tools::copyFromDense(dense, *grid, static_cast<ValueT>(0));
+
+  // index -> world: world = Origin + (ijk - IndexMin) * s = ijk * s + (Origin - IndexMin * s).
+  const double s = volume.Spacing[0];
+  openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(s);
+  xform->postTranslate(openvdb::Vec3d(volume.Origin[0] - volume.IndexMin[0] * s,
+    volume.Origin[1] - volume.IndexMin[1] * s, volume.Origin[2] - volume.IndexMin[2] * s));
+  grid->setTransform(xform);
+  grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+  grid->setName(name);
+  return grid;
+}
+
+//------------------------------------------------------------------------------
+bool CheckVolumeToWrite(const std::string& file, const std::string& name,
+  const DenseVolume& volume, std::string& error)
+{
+  const std::string where = "cannot write grid " + Quote(name) + " to " + Quote(file) + ": ";
+  if (volume.GetNumberOfValues() == 0 || !volume.Data)
+  {
+    error = where + "the volume is empty";
+    return false;
+  }
+  const double s = volume.Spacing[0];
+  if (!(s > 0.0) || !std::isfinite(s))
+  {
+    std::ostringstream msg;
+    msg << where << "the spacing must be positive (got " << s << ")";
+    error = msg.str();
+    return false;
+  }
+  for (int c = 1; c < 3; ++c)
+  {
+    if (!(std::abs(volume.Spacing[c] - s) <= 1e-6 * s))
+    {
+      std::ostringstream msg;
+      msg << where << "non-uniform spacing (" << volume.Spacing[0] << ", " << volume.Spacing[1]
+          << ", " << volume.Spacing[2]
+          << ") cannot be represented: OpenVDB voxels have the same size along x, y and z";
+      error = msg.str();
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Write @a grids to a temporary file beside @a file, then rename it into place.
+bool WriteGridsAtomically(
+  const std::string& file, const openvdb::GridPtrVec& grids, std::string& error)
+{
+  if (file.empty())
+  {
+    error = "no file name given";
+    return false;
+  }
+  const std::string tmp = file + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+  // Create the temporary file ourselves first: OpenVDB's message does not carry the OS error.
+  std::FILE* probe = std::fopen(tmp.c_str(), "wb");
+  if (!probe)
+  {
+    error = "cannot write " + Quote(file) + ": cannot create " + Quote(tmp) + ": " +
+      std::strerror(errno);
+    return false;
+  }
+  std::fclose(probe);
+  try
+  {
+    openvdb::io::File out(tmp);
+    out.write(grids);
+    out.close();
+  }
+  catch (const std::exception& e)
+  {
+    std::remove(tmp.c_str());
+    error = "cannot write " + Quote(file) + ": " + e.what();
+    return false;
+  }
+  catch (...)
+  {
+    std::remove(tmp.c_str());
+    error = "cannot write " + Quote(file) + ": unknown error";
+    return false;
+  }
+  if (std::rename(tmp.c_str(), file.c_str()) != 0)
+  {
+    const int err = errno;
+    std::remove(tmp.c_str());
+    error = "cannot write " + Quote(file) + ": cannot rename " + Quote(tmp) + " to it: " +
+      std::strerror(err);
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Run @a body, turning any exception into @a error prefixed with @a context.
+template <typename Body>
+bool Guard(const std::string& context, std::string& error, Body&& body)
+{
+  try
+  {
+    InitializeOpenVDB();
+    return body();
+  }
+  catch (const openvdb::Exception& e)
+  {
+    error = context + ": " + e.what();
+  }
+  catch (const std::exception& e)
+  {
+    error = context + ": " + e.what();
+  }
+  catch (...)
+  {
+    error = context + ": unknown error";
+  }
+  return false;
+}
+
+} // anonymous namespace
+
+//------------------------------------------------------------------------------
+std::size_t DenseVolume::GetNumberOfValues() const
+{
+  if (this->Dims[0] <= 0 || this->Dims[1] <= 0 || this->Dims[2] <= 0)
+  {
+    return 0;
+  }
+  return static_cast<std::size_t>(this->Dims[0]) * static_cast<std::size_t>(this->Dims[1]) *
+    static_cast<std::size_t>(this->Dims[2]);
+}
+
+//------------------------------------------------------------------------------
+bool CanOpenFile(const std::string& file)
+{
+  std::string error;
+  if (!CheckReadable(file, error))
+  {
+    return false;
+  }
+  return Guard("", error, [&]() {
+    OpenFile vdb(file);
+    return vdb.File.isOpen();
+  });
+}
+
+//------------------------------------------------------------------------------
+bool ListGrids(const std::string& file, std::vector<GridInfo>& grids, std::string& error)
+{
+  grids.clear();
+  if (!CheckReadable(file, error))
+  {
+    return false;
+  }
+  return Guard("cannot read OpenVDB file " + Quote(file), error, [&]() {
+    OpenFile vdb(file);
+    grids = ListOpenFile(vdb.File);
+    return true;
+  });
+}
+
+//------------------------------------------------------------------------------
+std::string DescribeGrids(const std::vector<GridInfo>& grids)
+{
+  if (grids.empty())
+  {
+    return "(none)";
+  }
+  std::string text;
+  for (const GridInfo& info : grids)
+  {
+    if (!text.empty())
+    {
+      text += ", ";
+    }
+    text += Quote(info.Name) + " (" + info.ValueType + ")";
+  }
+  return text;
+}
+
+//------------------------------------------------------------------------------
+bool ReadScalarGridInfo(
+  const std::string& file, const std::string& gridName, DenseVolume& volume, std::string& error)
+{
+  if (!CheckReadable(file, error))
+  {
+    return false;
+  }
+  return Guard("cannot read " + Where(file, gridName), error, [&]() {
+    OpenFile vdb(file);
+    const std::vector<GridInfo> grids = ListOpenFile(vdb.File);
+    GridInfo info;
+    if (!FindScalarGrid(file, gridName, grids, info, error))
+    {
+      return false;
+    }
+    openvdb::GridBase::Ptr meta = vdb.File.readGridMetadata(gridName);
+    double voxelSize = 1.0;
+    if (!UniformVoxelSize(*meta, file, voxelSize, error))
+    {
+      return false;
+    }
+
+    openvdb::CoordBBox bbox;
+    if (info.ActiveVoxelCount >= 0 && info.HasBBox)
+    {
+      if (info.ActiveVoxelCount == 0)
+      {
+        error = Where(file, gridName) + " is empty (it has no active voxels)";
+        return false;
+      }
+      bbox = openvdb::CoordBBox(openvdb::Coord(info.BBoxMin[0], info.BBoxMin[1], info.BBoxMin[2]),
+        openvdb::Coord(info.BBoxMax[0], info.BBoxMax[1], info.BBoxMax[2]));
+    }
+    else
+    {
+      // No statistics metadata: read the (sparse) grid to find its active bounding box.
+      openvdb::GridBase::Ptr grid = vdb.File.readGrid(gridName);
+      if (grid->activeVoxelCount() == 0)
+      {
+        error = Where(file, gridName) + " is empty (it has no active voxels)";
+        return false;
+      }
+      bbox = grid->evalActiveVoxelBoundingBox();
+    }
+    if (bbox.empty())
+    {
+      error = Where(file, gridName) + " is empty (it has no active voxels)";
+      return false;
+    }
+
+    const openvdb::Coord dim = bbox.dim();
+    const long long total = static_cast<long long>(dim[0]) * dim[1] * dim[2];
+    if (dim[0] <= 0 || dim[1] <= 0 || dim[2] <= 0 || total <= 0)
+    {
+      error = Where(file, gridName) + " has an invalid active voxel bounding box";
+      return false;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      volume.Dims[c] = dim[c];
+      volume.IndexMin[c] = bbox.min()[c];
+    }
+    volume.IsDouble = (info.ValueType == "double");
+    SetWorldGeometry(*meta, voxelSize, volume);
+    return true;
+  });
+}
+
+//------------------------------------------------------------------------------
+bool ReadScalarGrid(
+  const std::string& file, const std::string& gridName, DenseVolume& volume, std::string& error)
+{
+  if (!CheckReadable(file, error))
+  {
+    return false;
+  }
+  if (volume.GetNumberOfValues() == 0 || !volume.Data)
+  {
+    error = "cannot read " + Where(file, gridName) + ": empty box or no output buffer";
+    return false;
+  }
+  return Guard("cannot read " + Where(file, gridName), error, [&]() {
+    OpenFile vdb(file);
+    const std::vector<GridInfo> grids = ListOpenFile(vdb.File);
+    GridInfo info;
+    if (!FindScalarGrid(file, gridName, grids, info, error))
+    {
+      return false;
+    }
+    const bool isDouble = (info.ValueType == "double");
+    if (isDouble != volume.IsDouble)
+    {
+      error = Where(file, gridName) + " is of type " + info.ValueType +
+        " but a buffer of another type was given (was the file modified?)";
+      return false;
+    }
+    openvdb::GridBase::Ptr grid = vdb.File.readGrid(gridName);
+    double voxelSize = 1.0;
+    if (!UniformVoxelSize(*grid, file, voxelSize, error))
+    {
+      return false;
+    }
+    if (isDouble && grid->isType<openvdb::DoubleGrid>())
+    {
+      CopyToDense<openvdb::DoubleGrid>(*grid, volume);
+    }
+    else if (!isDouble && grid->isType<openvdb::FloatGrid>())
+    {
+      CopyToDense<openvdb::FloatGrid>(*grid, volume);
+    }
+    else
+    {
+      error = Where(file, gridName) + " has an unsupported tree configuration (" + grid->type() +
+        "); only the standard FloatGrid and DoubleGrid are supported";
+      return false;
+    }
+    SetWorldGeometry(*grid, voxelSize, volume);
+    return true;
+  });
+}
+
+//------------------------------------------------------------------------------
+bool WriteScalarGrid(const std::string& file, const std::string& gridName,
+  const DenseVolume& volume, double background, std::string& error)
+{
+  return WriteScalarGrids(file, { { gridName, &volume } }, background, error);
+}
+
+//------------------------------------------------------------------------------
+bool WriteScalarGrids(const std::string& file,
+  const std::vector<std::pair<std::string, const DenseVolume*>>& grids, double background,
+  std::string& error)
+{
+  if (grids.empty())
+  {
+    error = "cannot write " + Quote(file) + ": no grid given";
+    return false;
+  }
+  for (const auto& entry : grids)
+  {
+    if (!entry.second)
+    {
+      error = "cannot write grid " + Quote(entry.first) + " to " + Quote(file) + ": no volume";
+      return false;
+    }
+    if (!CheckVolumeToWrite(file, entry.first, *entry.second, error))
+    {
+      return false;
+    }
+  }
+  return Guard("cannot write " + Quote(file), error, [&]() {
+    openvdb::GridPtrVec vdbGrids;
+    for (const auto& entry : grids)
+    {
+      const DenseVolume& volume = *entry.second;
+      vdbGrids.push_back(volume.IsDouble
+          ? MakeGrid<openvdb::DoubleGrid>(entry.first, volume, background)
+          : MakeGrid<openvdb::FloatGrid>(entry.first, volume, background));
+    }
+    return WriteGridsAtomically(file, vdbGrids, error);
+  });
+}
+
+//------------------------------------------------------------------------------
+bool WriteTestVectorGrid(const std::string& file, const std::string& vectorGridName,
+  const std::string& scalarGridName, std::string& error)
+{
+  return Guard("cannot write " + Quote(file), error, [&]() {
+    openvdb::GridPtrVec vdbGrids;
+    openvdb::Vec3SGrid::Ptr vectors = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    vectors->setName(vectorGridName);
+    auto acc = vectors->getAccessor();
+    for (int i = 0; i < 4; ++i)
+    {
+      acc.setValue(openvdb::Coord(i, 2 * i, 1), openvdb::Vec3s(1.0f, float(i), -2.0f));
+    }
+    vdbGrids.push_back(vectors);
+    if (!scalarGridName.empty())
+    {
+      openvdb::FloatGrid::Ptr scalars = openvdb::FloatGrid::create(0.0f);
+      scalars->setName(scalarGridName);
+      scalars->setGridClass(openvdb::GRID_FOG_VOLUME);
+      auto sacc = scalars->getAccessor();
+      for (int i = 0; i < 3; ++i)
+      {
+        sacc.setValue(openvdb::Coord(i, i, i), 1.0f + float(i));
+      }
+      vdbGrids.push_back(scalars);
+    }
+    return WriteGridsAtomically(file, vdbGrids, error);
+  });
+}
+
+//------------------------------------------------------------------------------
+bool WriteTestTransformedGrid(const std::string& file, const std::string& gridName,
+  const std::string& transform, std::string& error)
+{
+  return Guard("cannot write " + Quote(file), error, [&]() {
+    openvdb::math::Transform::Ptr xform;
+    if (transform == "nonuniform")
+    {
+      xform = openvdb::math::Transform::createLinearTransform(1.0);
+      xform->preScale(openvdb::Vec3d(1.0, 2.0, 1.0));
+    }
+    else if (transform == "rotated")
+    {
+      xform = openvdb::math::Transform::createLinearTransform(0.5);
+      xform->postRotate(0.25 * openvdb::math::pi<double>(), openvdb::math::Z_AXIS);
+    }
+    else if (transform == "frustum")
+    {
+      xform = openvdb::math::Transform::createFrustumTransform(
+        openvdb::BBoxd(openvdb::Vec3d(0.0), openvdb::Vec3d(8.0)), /*taper=*/0.5, /*depth=*/2.0);
+    }
+    else
+    {
+      error = "unknown test transform " + Quote(transform);
+      return false;
+    }
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName(gridName);
+    grid->setTransform(xform);
+    auto acc = grid->getAccessor();
+    for (int i = 0; i < 3; ++i)
+    {
+      acc.setValue(openvdb::Coord(i, 1, 2), 1.0f + float(i));
+    }
+    openvdb::GridPtrVec vdbGrids;
+    vdbGrids.push_back(grid);
+    return WriteGridsAtomically(file, vdbGrids, error);
+  });
+}
+
+} // namespace ptv

@@ -1,0 +1,332 @@
+// Every failure of vtkPTVOpenVDBReader / vtkPTVOpenVDBWriter is an error event whose text names
+// the offending value; the output stays empty, nothing crashes, no partial file is left, and the
+// same object works again afterwards.
+//   reader: empty FileName, missing file, corrupt file, truncated file, unknown grid name (the
+//           message lists the grids), vec3s grid, file without scalar grids, non-uniform /
+//           rotated / frustum transforms (the message names the map type), empty grid.
+//   writer: no input, no scalars, short scalars, 3-component scalars, non-uniform spacing,
+//           rotated direction matrix, unwritable folder.
+#include "ptvOpenVDBGrid.h"
+#include "vtkCommand.h"
+#include "vtkExecutive.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPTVOpenVDBReader.h"
+#include "vtkPTVOpenVDBWriter.h"
+#include "vtkPointData.h"
+#include "vtkShortArray.h"
+#include "vtkSmartPointer.h"
+#include "vtkTestErrorObserver.h"
+#include "vtkTestUtilities.h"
+#include "vtksys/SystemTools.hxx"
+
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <unistd.h> // for getpid
+
+namespace
+{
+int failures = 0;
+
+void Check(bool ok, const std::string& what)
+{
+  if (!ok)
+  {
+    std::cerr << "FAILED: " << what << "\n";
+    ++failures;
+  }
+}
+
+std::string TempDir(int argc, char* argv[])
+{
+  char* dir = vtkTestUtilities::GetArgOrEnvOrDefault("-T", argc, argv, "PTV_TEST_TEMP", ".");
+  std::string result = dir;
+  delete[] dir;
+  vtksys::SystemTools::MakeDirectory(result);
+  return result;
+}
+
+// Observes errors and warnings of an algorithm and of its executive.
+struct Observed
+{
+  vtkNew<vtkTest::ErrorObserver> Observer;
+
+  void Attach(vtkAlgorithm* algorithm)
+  {
+    for (vtkObject* object : { static_cast<vtkObject*>(algorithm),
+           static_cast<vtkObject*>(algorithm->GetExecutive()) })
+    {
+      object->AddObserver(vtkCommand::ErrorEvent, this->Observer);
+      object->AddObserver(vtkCommand::WarningEvent, this->Observer);
+    }
+  }
+
+  // An error was reported and its text contains every one of @a needles.
+  void Expect(const std::string& label, const std::vector<std::string>& needles)
+  {
+    const std::string text = this->Observer->GetErrorMessage();
+    Check(this->Observer->GetError(), label + ": an error must be reported");
+    for (const std::string& needle : needles)
+    {
+      Check(text.find(needle) != std::string::npos,
+        label + ": the error must mention \"" + needle + "\"; got: " + text);
+    }
+    // Print only the first message's text line, without VTK's "ERROR: In <file>, line <n>" line
+    // (ctest fails any test whose output contains that).
+    std::string first = text.substr(text.find('\n') + 1);
+    first = first.substr(0, first.find('\n'));
+    std::cout << label << ": reported as expected: " << first << "\n";
+    this->Observer->Clear();
+  }
+
+  void ExpectNone(const std::string& label)
+  {
+    Check(!this->Observer->GetError() && !this->Observer->GetWarning(),
+      label + ": no error/warning expected; got: " + this->Observer->GetErrorMessage() +
+        this->Observer->GetWarningMessage());
+    this->Observer->Clear();
+  }
+};
+
+// Read @a file (grid @a grid) expecting failure, an empty output and a message naming @a needles.
+void ExpectReadError(const std::string& label, const char* file, const char* grid,
+  const std::vector<std::string>& needles)
+{
+  vtkNew<vtkPTVOpenVDBReader> reader;
+  Observed observed;
+  observed.Attach(reader);
+  reader->SetFileName(file);
+  reader->SetGridName(grid);
+  reader->Update();
+  observed.Expect(label, needles);
+  Check(reader->GetOutput()->GetNumberOfPoints() == 0, label + ": output must stay empty");
+  Check(reader->GetOutput()->GetPointData()->GetNumberOfArrays() == 0,
+    label + ": output must have no arrays");
+}
+
+vtkSmartPointer<vtkImageData> MakeImage(int components, int type)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(4, 3, 2);
+  image->SetSpacing(0.5, 0.5, 0.5);
+  image->AllocateScalars(type, components);
+  vtkDataArray* scalars = image->GetPointData()->GetScalars();
+  scalars->SetName("values");
+  for (vtkIdType n = 0; n < scalars->GetNumberOfValues(); ++n)
+  {
+    scalars->SetComponent(n / components, static_cast<int>(n % components), 1.0 + n % 5);
+  }
+  return image;
+}
+
+// Write @a image to @a file expecting failure, a message naming @a needles and no file.
+void ExpectWriteError(const std::string& label, vtkImageData* image, const std::string& file,
+  const std::vector<std::string>& needles)
+{
+  vtkNew<vtkPTVOpenVDBWriter> writer;
+  Observed observed;
+  observed.Attach(writer);
+  if (image)
+  {
+    writer->SetInputData(image);
+  }
+  writer->SetFileName(file.c_str());
+  Check(writer->Write() == 0, label + ": Write() must return 0");
+  observed.Expect(label, needles);
+  Check(!vtksys::SystemTools::FileExists(file), label + ": no file may be created: " + file);
+}
+
+void ReaderErrors(const std::string& dir)
+{
+  // A valid file to damage and to read after the errors.
+  const std::string good = dir + "/ptv_errors_good.vdb";
+  {
+    vtkNew<vtkPTVOpenVDBWriter> writer;
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    image->SetDimensions(32, 32, 32);
+    image->AllocateScalars(VTK_FLOAT, 1);
+    auto* values = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
+    for (vtkIdType n = 0; n < values->GetNumberOfValues(); ++n)
+    {
+      values->SetValue(n, 1.0f + static_cast<float>(n % 97) * 0.25f);
+    }
+    writer->SetInputData(image);
+    writer->SetFileName(good.c_str());
+    Check(writer->Write() == 1, "writing the reference file must succeed");
+  }
+
+  ExpectReadError("empty FileName", "", nullptr, { "FileName" });
+  ExpectReadError("null FileName", nullptr, nullptr, { "FileName" });
+
+  const std::string missing = dir + "/ptv_errors_no_such_file.vdb";
+  ExpectReadError("missing file", missing.c_str(), nullptr, { missing, "does not exist" });
+
+  // Random bytes.
+  const std::string corrupt = dir + "/ptv_errors_corrupt.vdb";
+  {
+    std::mt19937 rng(1234);
+    std::ofstream out(corrupt, std::ios::binary);
+    for (int n = 0; n < 4096; ++n)
+    {
+      out.put(static_cast<char>(rng() & 0xff));
+    }
+  }
+  ExpectReadError("corrupt file", corrupt.c_str(), nullptr, { corrupt });
+  Check(vtkPTVOpenVDBReader::CanReadFile(corrupt.c_str()) == 0,
+    "CanReadFile must reject random bytes");
+
+  // The first half of a valid file.
+  const std::string truncated = dir + "/ptv_errors_truncated.vdb";
+  {
+    std::ifstream in(good, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    Check(bytes.size() > 1000, "the reference file must have some size");
+    std::ofstream out(truncated, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  ExpectReadError("truncated file", truncated.c_str(), nullptr, { truncated });
+
+  // Unknown grid: the message lists what the file has.
+  ExpectReadError("missing grid", good.c_str(), "nosuchgrid", { "'nosuchgrid'", "'density'" });
+
+  // A vec3s grid, and a file with no scalar grid at all.
+  const std::string vectors = dir + "/ptv_errors_vec3.vdb";
+  std::string error;
+  Check(ptv::WriteTestVectorGrid(vectors, "velocity", "", error),
+    "WriteTestVectorGrid failed: " + error);
+  ExpectReadError("vec3s grid", vectors.c_str(), "velocity",
+    { "grid 'velocity' is of type vec3s; only scalar float/double grids are supported" });
+  ExpectReadError("no scalar grid", vectors.c_str(), nullptr, { "no scalar", "'velocity'" });
+
+  // Transforms that a dense image cannot represent; the message names the OpenVDB map type.
+  const struct
+  {
+    const char* Kind;
+    const char* Map;
+  } transforms[] = { { "nonuniform", "ScaleMap" }, { "rotated", "AffineMap" },
+    { "frustum", "NonlinearFrustumMap" } };
+  for (const auto& t : transforms)
+  {
+    const std::string file = dir + "/ptv_errors_" + t.Kind + ".vdb";
+    Check(ptv::WriteTestTransformedGrid(file, "warped", t.Kind, error),
+      std::string("WriteTestTransformedGrid(") + t.Kind + ") failed: " + error);
+    ExpectReadError(std::string(t.Kind) + " transform", file.c_str(), nullptr,
+      { "'warped'", t.Map, "only uniform-scale linear transforms are supported" });
+  }
+
+  // A grid without active voxels: all values equal the background.
+  const std::string empty = dir + "/ptv_errors_empty.vdb";
+  {
+    vtkNew<vtkPTVOpenVDBWriter> writer;
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    image->SetDimensions(5, 5, 5);
+    image->AllocateScalars(VTK_FLOAT, 1);
+    image->GetPointData()->GetScalars()->Fill(3.0);
+    writer->SetInputData(image);
+    writer->SetFileName(empty.c_str());
+    writer->SetGridName("nothing");
+    writer->SetBackground(3.0);
+    Check(writer->Write() == 1, "writing an all-background volume must succeed");
+  }
+  ExpectReadError("empty grid", empty.c_str(), nullptr, { "'nothing'", "no active voxels" });
+
+  // The same reader recovers: error first, then a good read, then an error again (no stale data).
+  vtkNew<vtkPTVOpenVDBReader> reader;
+  Observed observed;
+  observed.Attach(reader);
+  reader->SetFileName(missing.c_str());
+  reader->Update();
+  observed.Expect("reuse: missing file", { missing });
+  reader->SetFileName(good.c_str());
+  reader->Update();
+  observed.ExpectNone("reuse: good file");
+  Check(reader->GetOutput()->GetNumberOfPoints() == 32 * 32 * 32,
+    "reuse: the good file must be read after an error");
+  reader->SetFileName(truncated.c_str());
+  reader->Update();
+  observed.Expect("reuse: truncated file", { truncated });
+  Check(reader->GetOutput()->GetNumberOfPoints() == 0,
+    "reuse: a failed read must not leave the previous data in the output");
+}
+
+void WriterErrors(const std::string& dir)
+{
+  ExpectWriteError("no input", nullptr, dir + "/ptv_errors_w_noinput.vdb", { "input" });
+
+  auto noScalars = vtkSmartPointer<vtkImageData>::New();
+  noScalars->SetDimensions(3, 3, 3);
+  ExpectWriteError(
+    "no scalars", noScalars, dir + "/ptv_errors_w_noscalars.vdb", { "no point-data scalars" });
+
+  ExpectWriteError("short scalars", MakeImage(1, VTK_SHORT), dir + "/ptv_errors_w_short.vdb",
+    { "short", "vtkImageCast" });
+
+  ExpectWriteError("3 components", MakeImage(3, VTK_FLOAT), dir + "/ptv_errors_w_vector.vdb",
+    { "3 components" });
+
+  auto named = MakeImage(1, VTK_FLOAT);
+  {
+    vtkNew<vtkPTVOpenVDBWriter> writer;
+    Observed observed;
+    observed.Attach(writer);
+    writer->SetInputData(named);
+    writer->SetArrayName("nosucharray");
+    const std::string file = dir + "/ptv_errors_w_noarray.vdb";
+    writer->SetFileName(file.c_str());
+    Check(writer->Write() == 0, "unknown ArrayName: Write() must return 0");
+    observed.Expect("unknown ArrayName", { "'nosucharray'" });
+    Check(!vtksys::SystemTools::FileExists(file), "unknown ArrayName: no file may be created");
+  }
+
+  auto nonUniform = MakeImage(1, VTK_FLOAT);
+  nonUniform->SetSpacing(0.5, 0.25, 0.5);
+  ExpectWriteError("non-uniform spacing", nonUniform, dir + "/ptv_errors_w_spacing.vdb",
+    { "non-uniform", "0.25" });
+
+  auto rotated = MakeImage(1, VTK_FLOAT);
+  rotated->SetDirectionMatrix(0, -1, 0, 1, 0, 0, 0, 0, 1);
+  ExpectWriteError("rotated image", rotated, dir + "/ptv_errors_w_rotated.vdb", { "direction" });
+
+  const std::string unwritable = "/proc/ptv-no/x.vdb";
+  ExpectWriteError(
+    "unwritable folder", MakeImage(1, VTK_FLOAT), unwritable, { unwritable, "No such file" });
+  Check(!vtksys::SystemTools::FileExists(unwritable + ".tmp-" + std::to_string(getpid())),
+    "unwritable folder: no temporary file may remain");
+
+  // The writer works after errors.
+  vtkNew<vtkPTVOpenVDBWriter> writer;
+  Observed observed;
+  observed.Attach(writer);
+  writer->SetInputData(MakeImage(1, VTK_SHORT));
+  writer->SetFileName((dir + "/ptv_errors_w_reuse.vdb").c_str());
+  Check(writer->Write() == 0, "reuse: short input must fail");
+  observed.Expect("reuse: short input", { "short" });
+  writer->SetInputData(MakeImage(1, VTK_FLOAT));
+  Check(writer->Write() == 1, "reuse: float input must be written after an error");
+  observed.ExpectNone("reuse: float input");
+  Check(vtksys::SystemTools::FileExists(dir + "/ptv_errors_w_reuse.vdb"),
+    "reuse: the file must exist");
+}
+
+} // anonymous namespace
+
+int TestPTVOpenVDBReaderErrors(int argc, char* argv[])
+{
+  const std::string dir = TempDir(argc, argv);
+  ReaderErrors(dir);
+  WriterErrors(dir);
+  if (failures)
+  {
+    std::cerr << failures << " check(s) failed\n";
+    return EXIT_FAILURE;
+  }
+  std::cout << "TestPTVOpenVDBReaderErrors passed\n";
+  return EXIT_SUCCESS;
+}
