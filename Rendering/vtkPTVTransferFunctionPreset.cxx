@@ -218,7 +218,8 @@ bool vtkPTVTransferFunctionPreset::ApplyPreset(
   }
   for (std::size_t i = 0; i < p->RGBPoints.size(); i += 4)
   {
-    color->AddRGBPoint(p->RGBPoints[i], p->RGBPoints[i + 1], p->RGBPoints[i + 2], p->RGBPoints[i + 3]);
+    const double* q = &p->RGBPoints[i];
+    color->AddRGBPoint(q[0], q[1], q[2], q[3]);
   }
   if (opacity && !p->Points.empty())
   {

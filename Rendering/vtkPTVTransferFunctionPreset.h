@@ -58,7 +58,8 @@ public:
    * Replace the content of @a color and @a opacity with the named preset. @a opacity may be
    * nullptr; a preset without "Points" leaves @a opacity unchanged.
    */
-  bool ApplyPreset(const char* name, vtkColorTransferFunction* color, vtkPiecewiseFunction* opacity);
+  bool ApplyPreset(
+    const char* name, vtkColorTransferFunction* color, vtkPiecewiseFunction* opacity);
 
   /// Apply to the property's colour (component 0) and scalar opacity functions.
   bool ApplyPreset(const char* name, vtkVolumeProperty* property);

@@ -17,7 +17,8 @@
  *     min(tExit, MaxDistance[pixel])] (camera inside the volume works; opaque geometry clips).
  *  2. Samples at t_k = tStart + (k + xi) StepWorld, k = 0, 1, ... while t_k < tEnd (one jitter
  *     per ray, so for an integer number of steps the sample count is fixed and stratified).
- *     Per sample: s = trilinear scalar, (c, alpha) = table(s), alpha *= gradient-opacity factor
+ *     Per sample: s = trilinear (with Nearest: nearest-voxel) scalar, (c, alpha) = table(s),
+ *     alpha *= gradient-opacity factor
  *     of the world-space gradient magnitude (if that table exists), a = CorrectOpacity(alpha,
  *     StepWorld / UnitDistance).
  *  3. First event: the first sample with a > 0 gives Depth1 = t, Position1 (world), Normal1 and
@@ -36,6 +37,8 @@
  *       With Shade and n != 0: f = c Diffuse max(0, n.l) + Specular max(0, n.h)^SpecularPower,
  *       h = normalize(l - dir) (specular is not tinted by c); otherwise f = c Diffuse.
  *       direct = T_s Light.Radiance f, where T_s is the transmittance estimate along l (below).
+ *       Shaded events (Shade and n != 0) start shadow and environment rays at x + StepWorld n,
+ *       one step outside the layer they were sampled in (no self-shadowing of dense bands).
  *       The shadow ray is only traced (and its random numbers only drawn) when
  *       Light.Radiance f != 0.
  *     - ambient: c Ambient Light.Radiance (VTK's flat ambient term, unoccluded).
@@ -94,6 +97,7 @@ struct TraceParams
   float Ambient, Diffuse, Specular, SpecularPower;
   int Scattering;       ///< 1: event at a random opacity threshold, 0: first non-transparent sample
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
+  int Nearest;          ///< 1: nearest-voxel classification (VTK_NEAREST_INTERPOLATION)
   const float* MaxDistance; ///< per-pixel ray-length limit (world distance), nullptr = none
   uint32_t Seed;
   uint32_t Frame;
@@ -166,7 +170,9 @@ PTV_HD PTV_INLINE bool SkipEmptyBrick(const OccupancyGrid& occ, Vec3 oIdx, Vec3 
 /// gradient-opacity factor.
 PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
 {
-  TransferSample ts = LookupTransfer(p.Transfer, SampleTrilinear(p.Volume, pIdx));
+  const float s =
+    p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
+  TransferSample ts = LookupTransfer(p.Transfer, s);
   if (ts.Opacity > 0.f && HasGradientOpacity(p.Transfer))
   {
     const Vec3 gWorld = MultiplyMatrix3(p.Volume.NormalToWorld, GradientIndex(p.Volume, pIdx));
@@ -277,13 +283,17 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
 {
   const Light& light = p.KeyLight;
   const bool shaded = p.Shade && !IsZero(n);
+  // Surface-like events (shaded, with a gradient) start their shadow and environment rays one
+  // step outside along the normal: otherwise a dense band shadows itself (the ray re-crosses the
+  // layer it was sampled in) and the estimate turns into near-binary noise.
+  const Vec3 xs = shaded ? x + n * p.StepWorld : x;
 
   // Direct light with a stochastic shadow ray.
   Vec3 l;
   float lightDistance = kTMax;
   if (light.Positional)
   {
-    const Vec3 toLight = light.Position - x;
+    const Vec3 toLight = light.Position - xs;
     lightDistance = Length(toLight);
     l = Normalize(toLight);
   }
@@ -307,7 +317,7 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
   const Vec3 directCoefficient = light.Radiance * f;
   if (!IsZero(directCoefficient) && !IsZero(l))
   {
-    radiance += directCoefficient * EstimateTransmittance(p, x, l, lightDistance, rng);
+    radiance += directCoefficient * EstimateTransmittance(p, xs, l, lightDistance, rng);
   }
 
   // VTK's flat ambient term.
@@ -324,7 +334,7 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
     const float u1 = NextFloat(rng);
     const float u2 = NextFloat(rng);
     const Vec3 w = shaded ? SampleCosineHemisphere(n, u1, u2) : SampleUniformSphere(u1, u2);
-    radiance += envCoefficient * EstimateTransmittance(p, x, w, kTMax, rng);
+    radiance += envCoefficient * EstimateTransmittance(p, xs, w, kTMax, rng);
   }
   return radiance;
 }

@@ -293,7 +293,8 @@ bool SmallClosedForms()
 
   // Duff et al. basis is orthonormal, including the n.z = -1 branch.
   const ptv::Vec3 normals[4] = { ptv::MakeVec3(0.f, 0.f, 1.f), ptv::MakeVec3(0.f, 0.f, -1.f),
-    ptv::Normalize(ptv::MakeVec3(1.f, -2.f, 0.5f)), ptv::Normalize(ptv::MakeVec3(0.3f, 0.1f, -2.f)) };
+    ptv::Normalize(ptv::MakeVec3(1.f, -2.f, 0.5f)),
+    ptv::Normalize(ptv::MakeVec3(0.3f, 0.1f, -2.f)) };
   for (const ptv::Vec3& n : normals)
   {
     ptv::Vec3 b1, b2;

@@ -1,0 +1,127 @@
+#include "ptvDisplay.h"
+
+#include "vtkOpenGLError.h" // GL enums (glew in VTK <= 9.3, glad later)
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderUtilities.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+
+#include <string>
+
+namespace ptv
+{
+struct Display::Internals
+{
+  vtkSmartPointer<vtkTextureObject> Color;
+  vtkSmartPointer<vtkTextureObject> Depth;
+  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+};
+
+namespace
+{
+const char* kDecl = "uniform sampler2D ptvColor;\n"
+                    "uniform sampler2D ptvDepth;\n";
+const char* kImpl = "  vec4 c = texture(ptvColor, texCoord);\n"
+                    "  float z = texture(ptvDepth, texCoord).r;\n"
+                    "  if (c.a <= 0.0) { discard; }\n"
+                    "  gl_FragDepth = z;\n"
+                    "  gl_FragData[0] = c;\n";
+
+void Upload(vtkSmartPointer<vtkTextureObject>& tex, vtkOpenGLRenderWindow* win, int w, int h,
+  int comps, const float* data)
+{
+  if (!tex)
+  {
+    tex = vtkSmartPointer<vtkTextureObject>::New();
+  }
+  tex->SetContext(win);
+  tex->SetMinificationFilter(vtkTextureObject::Nearest);
+  tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+  tex->SetWrapS(vtkTextureObject::ClampToEdge);
+  tex->SetWrapT(vtkTextureObject::ClampToEdge);
+  tex->Create2DFromRaw(static_cast<unsigned int>(w), static_cast<unsigned int>(h), comps,
+    VTK_FLOAT, const_cast<float*>(data));
+}
+}
+
+//------------------------------------------------------------------------------
+Display::Display()
+  : Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+Display::~Display() = default;
+
+//------------------------------------------------------------------------------
+void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth)
+{
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!win || width <= 0 || height <= 0)
+  {
+    return;
+  }
+  Upload(this->Impl->Color, win, width, height, 4, rgba);
+  Upload(this->Impl->Depth, win, width, height, 1, depth);
+
+  if (!this->Impl->Quad)
+  {
+    std::string fs = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+    vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Decl", kDecl);
+    vtkShaderProgram::Substitute(fs, "//VTK::FSQ::Impl", kImpl);
+    this->Impl->Quad.reset(new vtkOpenGLQuadHelper(win, nullptr, fs.c_str(), ""));
+  }
+  else
+  {
+    win->GetShaderCache()->ReadyShaderProgram(this->Impl->Quad->Program);
+  }
+  vtkShaderProgram* program = this->Impl->Quad->Program;
+  if (!program || !program->GetCompiled())
+  {
+    return; // the shader cache already reported the compile error
+  }
+
+  vtkOpenGLState* state = win->GetState();
+  vtkOpenGLState::ScopedglEnableDisable blendSaver(state, GL_BLEND);
+  vtkOpenGLState::ScopedglEnableDisable depthSaver(state, GL_DEPTH_TEST);
+  vtkOpenGLState::ScopedglBlendFuncSeparate blendFuncSaver(state);
+  vtkOpenGLState::ScopedglDepthMask depthMaskSaver(state);
+  vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(state);
+  state->vtkglEnable(GL_BLEND);
+  state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  state->vtkglEnable(GL_DEPTH_TEST);
+  state->vtkglDepthFunc(GL_ALWAYS); // rays already stop at opaque geometry
+  state->vtkglDepthMask(GL_TRUE);
+
+  this->Impl->Color->Activate();
+  this->Impl->Depth->Activate();
+  program->SetUniformi("ptvColor", this->Impl->Color->GetTextureUnit());
+  program->SetUniformi("ptvDepth", this->Impl->Depth->GetTextureUnit());
+  this->Impl->Quad->Render();
+  this->Impl->Depth->Deactivate();
+  this->Impl->Color->Deactivate();
+}
+
+//------------------------------------------------------------------------------
+void Display::ReleaseGraphicsResources(vtkWindow* window)
+{
+  if (this->Impl->Quad)
+  {
+    this->Impl->Quad->ReleaseGraphicsResources(window);
+    this->Impl->Quad.reset();
+  }
+  if (this->Impl->Color)
+  {
+    this->Impl->Color->ReleaseGraphicsResources(window);
+  }
+  if (this->Impl->Depth)
+  {
+    this->Impl->Depth->ReleaseGraphicsResources(window);
+  }
+}
+}

@@ -1,0 +1,40 @@
+/**
+ * @file ptvDisplay.h
+ * @brief Private: draws a float RGBA image (premultiplied) with per-pixel window depth into the
+ *        renderer's viewport, so the volume and opaque geometry occlude each other correctly.
+ *
+ * The model is vtkOSPRayPass: float colour and depth textures on a full-screen quad that writes
+ * gl_FragDepth. OpenGL types stay in the .cxx.
+ */
+#ifndef ptvDisplay_h
+#define ptvDisplay_h
+
+#include <memory>
+
+class vtkRenderer;
+class vtkWindow;
+
+namespace ptv
+{
+class Display
+{
+public:
+  Display();
+  ~Display();
+
+  /**
+   * Blend @a rgba (width*height*4, premultiplied, bottom row first) over the framebuffer
+   * (ONE, ONE_MINUS_SRC_ALPHA) and write @a depth (window depth in [0,1]; 1 = leave the depth
+   * buffer alone) where alpha > 0.
+   */
+  void Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth);
+
+  void ReleaseGraphicsResources(vtkWindow* window);
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+}
+
+#endif

@@ -1,0 +1,468 @@
+#include "ptvFrameInputs.h"
+
+#include "Kernels/ptvOccupancy.h"
+
+#include "vtkArrayDispatch.h"
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkDataArrayRange.h"
+#include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace ptv
+{
+namespace
+{
+constexpr int kTableSize = 4096;
+constexpr int kGradientTableSize = 1024;
+constexpr int kBrickSize = 8;
+
+// Copy any numeric 1-component array to float, turning non-finite values into NaN ("no data")
+// and tracking the finite range.
+struct ToFloat
+{
+  template <typename ArrayT>
+  void operator()(ArrayT* array, float* out, double range[2], vtkIdType& nonFinite)
+  {
+    const auto values = vtk::DataArrayValueRange<1>(array);
+    const vtkIdType n = static_cast<vtkIdType>(values.size());
+    vtkSMPTools::For(0, n,
+      [&](vtkIdType b, vtkIdType e)
+      {
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          out[i] = static_cast<float>(values[i]);
+        }
+      });
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    vtkIdType bad = 0;
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const float v = out[i];
+      if (!std::isfinite(v))
+      {
+        out[i] = std::numeric_limits<float>::quiet_NaN();
+        ++bad;
+        continue;
+      }
+      lo = std::min(lo, static_cast<double>(v));
+      hi = std::max(hi, static_cast<double>(v));
+    }
+    range[0] = lo;
+    range[1] = hi;
+    nonFinite = bad;
+  }
+};
+
+Vec3 ToVec3(const double v[3])
+{
+  return Vec3{ static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]) };
+}
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::UpdateVolume(
+  vtkImageData* image, vtkDataArray* scalars, std::string& error, vtkIdType& nonFinite)
+{
+  nonFinite = 0;
+  std::ostringstream msg;
+  if (!image)
+  {
+    error = "no input image (the mapper needs a vtkImageData)";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1)
+  {
+    msg << "empty volume (dimensions " << dims[0] << " x " << dims[1] << " x " << dims[2] << ")";
+    error = msg.str();
+    return false;
+  }
+  if (!scalars)
+  {
+    error = "the input has no point scalars to render (set the active scalars or choose an "
+            "array with SelectScalarArray)";
+    return false;
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    msg << "array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)") << "' has "
+        << scalars->GetNumberOfComponents()
+        << " components; only single-component scalars are supported (extract one with "
+           "vtkImageExtractComponents)";
+    error = msg.str();
+    return false;
+  }
+  const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2];
+  if (scalars->GetNumberOfTuples() != n)
+  {
+    msg << "array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)") << "' has "
+        << scalars->GetNumberOfTuples() << " values but the image has " << n << " points";
+    error = msg.str();
+    return false;
+  }
+  const vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
+  if (scalars == this->VolumeArray && t <= this->VolumeTime && !this->Scalars.empty())
+  {
+    return true;
+  }
+  this->Scalars.resize(static_cast<std::size_t>(n));
+  double range[2];
+  ToFloat worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(scalars, worker, this->Scalars.data(), range, nonFinite))
+  {
+    worker(scalars, this->Scalars.data(), range, nonFinite); // generic vtkDataArray path
+  }
+  if (nonFinite == n)
+  {
+    error = "every voxel is NaN or infinite: nothing to render";
+    this->Scalars.clear();
+    return false;
+  }
+  if (range[1] <= range[0])
+  {
+    range[0] -= 0.5;
+    range[1] += 0.5; // constant volume: a non-empty table range
+  }
+  std::copy(dims, dims + 3, this->Dims);
+  std::copy(range, range + 2, this->Range);
+  this->VolumeArray = scalars;
+  this->VolumeTime = t;
+  this->TransferTime = 0; // the tables span the scalar range: rebuild them
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std::string& error)
+{
+  if (!property)
+  {
+    error = "the vtkVolume has no vtkVolumeProperty";
+    return false;
+  }
+  if (property->GetMTime() <= this->TransferTime && skipping == this->TransferSkipping &&
+    !this->RGBA.empty())
+  {
+    return true;
+  }
+  this->RGBA.assign(4 * kTableSize, 0.0f);
+  std::vector<float> rgb(3 * kTableSize), alpha(kTableSize);
+  if (property->GetColorChannels(0) == 1)
+  {
+    property->GetGrayTransferFunction(0)->GetTable(
+      this->Range[0], this->Range[1], kTableSize, alpha.data());
+    for (int i = 0; i < kTableSize; ++i)
+    {
+      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = alpha[i];
+    }
+  }
+  else
+  {
+    property->GetRGBTransferFunction(0)->GetTable(
+      this->Range[0], this->Range[1], kTableSize, rgb.data());
+  }
+  property->GetScalarOpacity(0)->GetTable(this->Range[0], this->Range[1], kTableSize, alpha.data());
+  for (int i = 0; i < kTableSize; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      this->RGBA[4 * i + c] = rgb[3 * i + c];
+    }
+    this->RGBA[4 * i + 3] = std::min(1.0f, std::max(0.0f, alpha[i]));
+  }
+
+  // Gradient opacity only when it can change anything (VTK's default function is constant 1).
+  this->GradientOpacity.clear();
+  if (!property->GetDisableGradientOpacity(0))
+  {
+    // Table over [0, scalar range per unit world distance]; larger gradients clamp to the end.
+    this->GradientMax = static_cast<float>(this->Range[1] - this->Range[0]);
+    std::vector<float> g(kGradientTableSize);
+    property->GetGradientOpacity(0)->GetTable(0.0, this->GradientMax, kGradientTableSize, g.data());
+    const bool constantOne =
+      std::all_of(g.begin(), g.end(), [](float v) { return std::abs(v - 1.0f) < 1e-6f; });
+    if (!constantOne)
+    {
+      this->GradientOpacity = std::move(g);
+    }
+  }
+  this->Nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? 1 : 0;
+
+  // Occupancy depends on voxels and tables.
+  this->Occupied.clear();
+  this->TransferSkipping = skipping;
+  if (skipping)
+  {
+    VolumeGrid grid{};
+    grid.Scalars = this->Scalars.data();
+    std::copy(this->Dims, this->Dims + 3, grid.Dims);
+    TransferTable table{};
+    table.RGBA = this->RGBA.data();
+    table.Size = kTableSize;
+    table.ScalarMin = static_cast<float>(this->Range[0]);
+    table.ScalarMax = static_cast<float>(this->Range[1]);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->BrickCounts[a] = (this->Dims[a] + kBrickSize - 1) / kBrickSize;
+    }
+    this->Occupied.resize(static_cast<std::size_t>(this->BrickCounts[0]) * this->BrickCounts[1] *
+      this->BrickCounts[2]);
+    BuildOccupancy(grid, table, kBrickSize, this->Occupied.data());
+  }
+  this->TransferTime = property->GetMTime();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
+  const FrameSettings& settings, int width, int height, const std::vector<float>& zbuffer,
+  TraceParams& p, std::vector<double>& signature, std::string& error)
+{
+  p = TraceParams{};
+  signature.clear();
+  auto sign = [&signature](const double* v, int n) { signature.insert(signature.end(), v, v + n); };
+
+  // Index -> world: volume matrix * (origin + direction * diag(spacing) * ijk).
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0)
+  {
+    std::ostringstream msg;
+    msg << "zero image spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+        << ")";
+    error = msg.str();
+    return false;
+  }
+  const vtkMatrix3x3* dir = image->GetDirectionMatrix();
+  vtkMatrix4x4* m = vol->GetMatrix();
+  double a[3][3], t[3];
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      double v = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        v += m->GetElement(r, k) * dir->GetElement(k, c);
+      }
+      a[r][c] = v * spacing[c];
+    }
+    double o = m->GetElement(r, 3);
+    for (int k = 0; k < 3; ++k)
+    {
+      o += m->GetElement(r, k) * origin[k];
+    }
+    t[r] = o;
+  }
+  double inv[3][3];
+  if (std::abs(vtkMath::Determinant3x3(a)) < 1e-300)
+  {
+    error = "the volume's index-to-world transform is singular (check the vtkVolume matrix)";
+    return false;
+  }
+  vtkMath::Invert3x3(a, inv);
+  VolumeGrid& g = p.Volume;
+  g.Scalars = this->Scalars.data();
+  std::copy(this->Dims, this->Dims + 3, g.Dims);
+  for (int r = 0; r < 3; ++r)
+  {
+    double ti = 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      g.WorldToIndex[4 * r + c] = static_cast<float>(inv[r][c]);
+      g.NormalToWorld[3 * r + c] = static_cast<float>(inv[c][r]);
+      ti -= inv[r][c] * t[c];
+    }
+    g.WorldToIndex[4 * r + 3] = static_cast<float>(ti);
+  }
+  sign(&a[0][0], 9);
+  sign(t, 3);
+  double step = std::numeric_limits<double>::max();
+  for (int c = 0; c < 3; ++c)
+  {
+    step = std::min(step, std::sqrt(a[0][c] * a[0][c] + a[1][c] * a[1][c] + a[2][c] * a[2][c]));
+  }
+  vol->GetBounds(this->WorldBounds);
+
+  // Transfer function.
+  vtkVolumeProperty* prop = vol->GetProperty();
+  TransferTable& tf = p.Transfer;
+  tf.RGBA = this->RGBA.data();
+  tf.Size = kTableSize;
+  tf.ScalarMin = static_cast<float>(this->Range[0]);
+  tf.ScalarMax = static_cast<float>(this->Range[1]);
+  tf.GradientOpacity = this->GradientOpacity.empty() ? nullptr : this->GradientOpacity.data();
+  tf.GradientSize = kGradientTableSize;
+  tf.GradientMax = this->GradientMax;
+  if (settings.EmptySpaceSkipping && !this->Occupied.empty())
+  {
+    p.Occupancy.Occupied = this->Occupied.data();
+    p.Occupancy.BrickSize = kBrickSize;
+    std::copy(this->BrickCounts, this->BrickCounts + 3, p.Occupancy.Bricks);
+  }
+  const double transferTime = static_cast<double>(prop->GetMTime());
+  sign(&transferTime, 1);
+  const double volumeTime = static_cast<double>(this->VolumeTime);
+  sign(&volumeTime, 1);
+
+  // Camera.
+  vtkCamera* cam = ren->GetActiveCamera();
+  const double aspect = static_cast<double>(width) / static_cast<double>(height);
+  vtkNew<vtkMatrix4x4> worldFromNdc;
+  worldFromNdc->DeepCopy(cam->GetCompositeProjectionTransformMatrix(aspect, -1, 1));
+  worldFromNdc->Invert();
+  for (int i = 0; i < 16; ++i)
+  {
+    p.Camera.WorldFromNdc[i] = static_cast<float>(worldFromNdc->GetElement(i / 4, i % 4));
+  }
+  sign(&worldFromNdc->Element[0][0], 16);
+  p.Camera.Eye = ToVec3(cam->GetPosition());
+  p.Camera.Parallel = cam->GetParallelProjection() ? 1 : 0;
+  p.Camera.Width = width;
+  p.Camera.Height = height;
+  p.Camera.FarDistance = static_cast<float>(cam->GetClippingRange()[1]);
+  const double size[2] = { static_cast<double>(width), static_cast<double>(height) };
+  sign(size, 2);
+
+  // Key light: first switched-on scene/camera light, else a point light above the volume.
+  const double* b = this->WorldBounds;
+  const double center[3] = { (b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2 };
+  const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+  vtkLight* chosen = nullptr;
+  if (settings.UseRendererLight)
+  {
+    vtkCollectionSimpleIterator it;
+    ren->GetLights()->InitTraversal(it);
+    while (vtkLight* light = ren->GetLights()->GetNextLight(it))
+    {
+      if (light->GetSwitch() && !light->LightTypeIsHeadlight())
+      {
+        chosen = light;
+        break;
+      }
+    }
+  }
+  double lightPos[3], lightDir[3] = { 0, 0, -1 }, lightRad[3];
+  int positional = 1;
+  if (chosen)
+  {
+    double focal[3];
+    chosen->GetTransformedPosition(lightPos);
+    chosen->GetTransformedFocalPoint(focal);
+    positional = chosen->GetPositional() ? 1 : 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      lightDir[k] = focal[k] - lightPos[k];
+      lightRad[k] = chosen->GetDiffuseColor()[k] * chosen->GetIntensity() * settings.LightIntensity;
+    }
+    vtkMath::Normalize(lightDir);
+  }
+  else
+  {
+    double up[3], toEye[3];
+    cam->GetViewUp(up);
+    vtkMath::Normalize(up);
+    const double* eye = cam->GetPosition();
+    for (int k = 0; k < 3; ++k)
+    {
+      toEye[k] = eye[k] - center[k];
+    }
+    vtkMath::Normalize(toEye);
+    for (int k = 0; k < 3; ++k)
+    {
+      lightPos[k] = center[k] + diag * (1.5 * up[k] + 0.5 * toEye[k]);
+      lightRad[k] = settings.LightIntensity;
+    }
+  }
+  p.KeyLight.Position = ToVec3(lightPos);
+  p.KeyLight.Direction = ToVec3(lightDir);
+  p.KeyLight.Positional = positional;
+  p.KeyLight.Radiance = ToVec3(lightRad);
+  sign(lightPos, 3);
+  sign(lightDir, 3);
+  sign(lightRad, 3);
+
+  double env[3];
+  const double* envSource =
+    settings.UseBackgroundAsEnvironment ? ren->GetBackground() : settings.EnvironmentColor;
+  for (int k = 0; k < 3; ++k)
+  {
+    env[k] = envSource[k] * settings.EnvironmentIntensity;
+  }
+  p.Environment = ToVec3(env);
+  sign(env, 3);
+
+  // Sampling and shading.
+  p.StepWorld = static_cast<float>(step);
+  p.ShadowStepScale = 2.0f;
+  p.UnitDistance = static_cast<float>(std::max(1e-12, prop->GetScalarOpacityUnitDistance(0)));
+  p.Shade = prop->GetShade(0) ? 1 : 0;
+  p.Ambient = static_cast<float>(prop->GetAmbient(0));
+  p.Diffuse = static_cast<float>(prop->GetDiffuse(0));
+  p.Specular = static_cast<float>(prop->GetSpecular(0));
+  p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
+  p.Scattering = settings.Scattering ? 1 : 0;
+  p.AmbientOcclusion = settings.AmbientOcclusion ? 1 : 0;
+  p.Nearest = this->Nearest;
+  p.Seed = settings.Seed;
+  const double misc[5] = { static_cast<double>(settings.Seed),
+    static_cast<double>(settings.SamplesPerFrame), settings.Scattering ? 1.0 : 0.0,
+    settings.AmbientOcclusion ? 1.0 : 0.0, static_cast<double>(this->Nearest) };
+  sign(misc, 5);
+
+  // Opaque geometry: window depth -> world distance along each pixel's centre ray.
+  this->MaxDistance.clear();
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  bool anyGeometry = false;
+  if (zbuffer.size() == pixels)
+  {
+    this->MaxDistance.assign(pixels, std::numeric_limits<float>::infinity());
+    double hash = 0.0;
+    for (int y = 0; y < height; ++y)
+    {
+      for (int x = 0; x < width; ++x)
+      {
+        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+        const float z = zbuffer[i];
+        if (z >= 1.0f)
+        {
+          continue;
+        }
+        anyGeometry = true;
+        hash += (static_cast<double>(i % 9973) + 1.0) * z;
+        const double ndc[4] = { 2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0,
+          2.0 * z - 1.0, 1.0 };
+        double w[4];
+        worldFromNdc->MultiplyPoint(ndc, w);
+        const Vec3 hit{ static_cast<float>(w[0] / w[3]), static_cast<float>(w[1] / w[3]),
+          static_cast<float>(w[2] / w[3]) };
+        Vec3 o, d;
+        GenerateRay(p.Camera, x + 0.5f, y + 0.5f, o, d);
+        this->MaxDistance[i] = std::max(0.0f, Dot(hit - o, d));
+      }
+    }
+    sign(&hash, 1);
+  }
+  p.MaxDistance = anyGeometry ? this->MaxDistance.data() : nullptr;
+  return true;
+}
+}

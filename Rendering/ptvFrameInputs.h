@@ -1,0 +1,90 @@
+/**
+ * @file ptvFrameInputs.h
+ * @brief Private: turns the VTK scene (image, volume property, camera, lights, z-buffer) into
+ *        the kernel's plain structs, owning the host memory behind them.
+ *
+ * The float copy of the voxels, the transfer-function tables and the occupancy grid are rebuilt
+ * only when their VTK sources change (MTime). Build() also returns a signature of everything that
+ * changes the image, so the mapper resets its accumulation when (and only when) it differs.
+ */
+#ifndef ptvFrameInputs_h
+#define ptvFrameInputs_h
+
+#include "Kernels/ptvIntegrator.h"
+
+#include "vtkType.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+class vtkDataArray;
+class vtkImageData;
+class vtkRenderer;
+class vtkVolume;
+class vtkVolumeProperty;
+
+namespace ptv
+{
+/// The mapper settings that reach the kernel.
+struct FrameSettings
+{
+  unsigned int Seed = 0;
+  int SamplesPerFrame = 1;
+  bool Scattering = true;
+  bool AmbientOcclusion = true;
+  bool UseRendererLight = true;
+  double LightIntensity = 1.0;
+  double EnvironmentColor[3] = { 1, 1, 1 };
+  bool UseBackgroundAsEnvironment = true;
+  double EnvironmentIntensity = 1.0;
+  bool EmptySpaceSkipping = true;
+};
+
+class FrameInputs
+{
+public:
+  /**
+   * Copy the scalars to float when image or array changed. Non-finite voxels become "no data"
+   * (transparent); their count is returned in @a nonFinite. False + @a error on unusable input.
+   */
+  bool UpdateVolume(vtkImageData* image, vtkDataArray* scalars, std::string& error,
+    vtkIdType& nonFinite);
+
+  /// Rebuild the transfer tables (and the occupancy grid) when the property changed.
+  bool UpdateTransfer(vtkVolumeProperty* property, bool skipping, std::string& error);
+
+  /**
+   * Fill @a params for a @a width x @a height frame of @a ren. @a zbuffer (window depths in
+   * [0,1], may be empty) limits rays at opaque geometry. @a signature receives every value that
+   * changes the image.
+   */
+  bool Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image, const FrameSettings& settings,
+    int width, int height, const std::vector<float>& zbuffer, TraceParams& params,
+    std::vector<double>& signature, std::string& error);
+
+  /// World-space axis-aligned bounds of the volume (valid after Build()).
+  const double* GetWorldBounds() const { return this->WorldBounds; }
+
+private:
+  vtkMTimeType VolumeTime = 0;
+  vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
+  std::vector<float> Scalars;
+  int Dims[3] = { 0, 0, 0 };
+  double Range[2] = { 0, 1 };
+
+  vtkMTimeType TransferTime = 0;
+  bool TransferSkipping = false;
+  std::vector<float> RGBA;
+  std::vector<float> GradientOpacity;
+  float GradientMax = 1.0f;
+  int Nearest = 0;
+  std::vector<uint8_t> Occupied;
+  int BrickCounts[3] = { 0, 0, 0 };
+
+  std::vector<float> MaxDistance;
+  double WorldBounds[6] = { 0, 0, 0, 0, 0, 0 };
+};
+}
+
+#endif

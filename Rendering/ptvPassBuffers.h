@@ -1,0 +1,68 @@
+/**
+ * @file ptvPassBuffers.h
+ * @brief Private: the named render passes of one image, a per-frame sample store and the
+ *        running-mean accumulation of frames.
+ */
+#ifndef ptvPassBuffers_h
+#define ptvPassBuffers_h
+
+#include "Kernels/ptvIntegrator.h"
+
+#include <vector>
+
+namespace ptv
+{
+/// Stable pass order; names are what users see (vtkPathTracedVolumeMapper::GetPassName).
+enum PassId
+{
+  PassRadiance = 0,
+  PassAlpha,
+  PassAlbedo,
+  PassDepth,
+  PassPosition,
+  PassNormal,
+  PassScatterDepth,
+  PassScatterPosition,
+  PassScatterNormal,
+  PassCount
+};
+
+struct PassInfo
+{
+  const char* Name;
+  int Components;
+};
+
+const PassInfo& GetPassInfo(int pass);
+
+/// Index of the pass called @a name, or -1.
+int FindPass(const char* name);
+
+class PassBuffers
+{
+public:
+  /// Reallocate for a new size (contents cleared); a no-op when the size is unchanged.
+  void Resize(int width, int height);
+
+  /// Set every value to 0.
+  void Clear();
+
+  int GetWidth() const { return this->Width; }
+  int GetHeight() const { return this->Height; }
+  float* Data(int pass) { return this->Buffers[pass].data(); }
+  const float* Data(int pass) const { return this->Buffers[pass].data(); }
+
+  /// Write @a s (already averaged over the frame's samples) at pixel index @a pixel.
+  void Store(int pixel, const PixelSample& s);
+
+  /// Running mean: this += (frame - this) / count, where count >= 1 is the new frame count.
+  void Accumulate(const PassBuffers& frame, int count);
+
+private:
+  int Width = 0;
+  int Height = 0;
+  std::vector<float> Buffers[PassCount];
+};
+}
+
+#endif

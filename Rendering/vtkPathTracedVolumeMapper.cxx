@@ -1,0 +1,398 @@
+#include "vtkPathTracedVolumeMapper.h"
+
+#include "ptvCpuTracer.h"
+#include "ptvCudaDevice.h"
+#include "ptvDisplay.h"
+#include "ptvFrameInputs.h"
+#include "ptvPassBuffers.h"
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+#include "vtkVolume.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+struct vtkPathTracedVolumeMapper::vtkInternals
+{
+  ptv::FrameInputs Inputs;
+  ptv::PassBuffers Frame;
+  ptv::PassBuffers Accumulated;
+  ptv::Display Display;
+  ptv::TraceParams Params{};
+  std::vector<double> Signature;
+  std::vector<float> ZBuffer;
+  std::vector<float> ShownColor;
+  std::vector<float> ShownDepth;
+  std::string LastError;
+  vtkIdType LastNonFinite = 0;
+};
+
+vtkStandardNewMacro(vtkPathTracedVolumeMapper);
+
+namespace
+{
+// Colour a pass for display: opaque, [0,1], misses black.
+void Colorize(int pass, const ptv::PassBuffers& acc, const double* bounds, float far,
+  std::vector<float>& rgba)
+{
+  const int n = acc.GetWidth() * acc.GetHeight();
+  const int comps = ptv::GetPassInfo(pass).Components;
+  const float* data = acc.Data(pass);
+  float lo = std::numeric_limits<float>::max(), hi = -lo;
+  if (comps == 1 && pass != ptv::PassAlpha)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      if (data[i] < 0.999f * far)
+      {
+        lo = std::min(lo, data[i]);
+        hi = std::max(hi, data[i]);
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    rgba[4 * i + 0] = rgba[4 * i + 1] = rgba[4 * i + 2] = 0.0f;
+    rgba[4 * i + 3] = 1.0f;
+    float c[3] = { 0, 0, 0 };
+    if (pass == ptv::PassAlpha)
+    {
+      c[0] = c[1] = c[2] = data[i];
+    }
+    else if (comps == 1)
+    {
+      if (data[i] < 0.999f * far && hi > lo)
+      {
+        c[0] = c[1] = c[2] = 1.0f - 0.9f * (data[i] - lo) / (hi - lo); // near = bright
+      }
+    }
+    else if (pass == ptv::PassNormal || pass == ptv::PassScatterNormal)
+    {
+      const float* v = data + 3 * i;
+      if (v[0] != 0.0f || v[1] != 0.0f || v[2] != 0.0f)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          c[k] = 0.5f * v[k] + 0.5f;
+        }
+      }
+    }
+    else if (pass == ptv::PassPosition || pass == ptv::PassScatterPosition)
+    {
+      const float* v = data + 3 * i;
+      const int depthPass = pass == ptv::PassPosition ? ptv::PassDepth : ptv::PassScatterDepth;
+      if (!(acc.Data(depthPass)[i] < 0.999f * far))
+      {
+        continue; // a miss stays black (its position 0 is a real place)
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const double extent = bounds[2 * k + 1] - bounds[2 * k];
+        c[k] = extent > 0 ? static_cast<float>((v[k] - bounds[2 * k]) / extent) : 0.0f;
+      }
+    }
+    else
+    {
+      std::copy(data + 3 * i, data + 3 * i + 3, c);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      rgba[4 * i + k] = std::min(1.0f, std::max(0.0f, c[k]));
+    }
+    rgba[4 * i + 3] = 1.0f;
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPathTracedVolumeMapper::~vtkPathTracedVolumeMapper()
+{
+  this->SetDisplayPass(nullptr);
+}
+
+//------------------------------------------------------------------------------
+int vtkPathTracedVolumeMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPathTracedVolumeMapper::GetNumberOfPasses()
+{
+  return ptv::PassCount;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::GetPassName(int index)
+{
+  return (index >= 0 && index < ptv::PassCount) ? ptv::GetPassInfo(index).Name : nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPathTracedVolumeMapper::GetCudaAvailable()
+{
+  return ptv::QueryCudaDevices().DeviceCount > 0;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::GetCudaStatus()
+{
+  return ptv::QueryCudaDevices().Message.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::ResetAccumulation()
+{
+  this->AccumulatedFrames = 0;
+  this->Internals->Signature.clear();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
+{
+  const int pass = ptv::FindPass(name);
+  if (pass < 0)
+  {
+    vtkErrorMacro(<< "Unknown pass '" << (name ? name : "(null)") << "'; see GetPassName().");
+    return false;
+  }
+  if (!output)
+  {
+    vtkErrorMacro(<< "GetPass needs an output vtkImageData.");
+    return false;
+  }
+  if (this->AccumulatedFrames == 0)
+  {
+    vtkErrorMacro(<< "Pass '" << name << "' is not available before the first render.");
+    return false;
+  }
+  const ptv::PassBuffers& acc = this->Internals->Accumulated;
+  const int comps = ptv::GetPassInfo(pass).Components;
+  const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
+  vtkNew<vtkFloatArray> array;
+  array->SetName(name);
+  array->SetNumberOfComponents(comps);
+  array->SetNumberOfTuples(n);
+  std::copy(acc.Data(pass), acc.Data(pass) + n * comps, array->GetPointer(0));
+  output->Initialize();
+  output->SetDimensions(acc.GetWidth(), acc.GetHeight(), 1);
+  output->SetOrigin(0, 0, 0);
+  output->SetSpacing(1, 1, 1);
+  output->GetPointData()->SetScalars(array);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& in = *this->Internals;
+  this->LastRenderTraced = false;
+  this->LastTraceTime = 0.0;
+  auto report = [this, &in](const std::string& error)
+  {
+    if (error != in.LastError)
+    {
+      vtkErrorMacro(<< error);
+      in.LastError = error;
+    }
+  };
+
+  if (!ren || !vol)
+  {
+    return;
+  }
+  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
+  vtkImageData* image = vtkImageData::SafeDownCast(this->GetInput());
+  int cellFlag = 0;
+  vtkDataArray* scalars = image ? this->GetScalars(image, this->ScalarMode, this->ArrayAccessMode,
+                                    this->ArrayId, this->ArrayName, cellFlag)
+                                : nullptr;
+  std::string error;
+  if (scalars && cellFlag)
+  {
+    report("cell scalars are not supported; convert them with vtkCellDataToPointData");
+    return;
+  }
+  vtkIdType nonFinite = 0;
+  if (!in.Inputs.UpdateVolume(image, scalars, error, nonFinite) ||
+    !in.Inputs.UpdateTransfer(vol->GetProperty(), this->EmptySpaceSkipping, error))
+  {
+    report(error);
+    return;
+  }
+  if (nonFinite > 0 && nonFinite != in.LastNonFinite)
+  {
+    vtkWarningMacro(<< nonFinite << " voxels are NaN or infinite; they are rendered transparent.");
+  }
+  in.LastNonFinite = nonFinite;
+
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width <= 0 || height <= 0)
+  {
+    return; // a zero-size viewport shows nothing; not an error
+  }
+
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  in.ZBuffer.resize(pixels);
+  if (!ren->GetRenderWindow() ||
+    !ren->GetRenderWindow()->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1,
+      in.ZBuffer.data()))
+  {
+    in.ZBuffer.clear();
+  }
+
+  ptv::FrameSettings settings;
+  settings.Seed = this->Seed;
+  settings.SamplesPerFrame = this->SamplesPerFrame;
+  settings.Scattering = this->Scattering;
+  settings.AmbientOcclusion = this->AmbientOcclusion;
+  settings.UseRendererLight = this->UseRendererLight;
+  settings.LightIntensity = this->LightIntensity;
+  std::copy(this->EnvironmentColor, this->EnvironmentColor + 3, settings.EnvironmentColor);
+  settings.UseBackgroundAsEnvironment = this->UseBackgroundAsEnvironment;
+  settings.EnvironmentIntensity = this->EnvironmentIntensity;
+  settings.EmptySpaceSkipping = this->EmptySpaceSkipping;
+
+  std::vector<double> signature;
+  if (!in.Inputs.Build(ren, vol, image, settings, width, height, in.ZBuffer, in.Params, signature,
+        error))
+  {
+    report(error);
+    return;
+  }
+  in.LastError.clear();
+  if (signature != in.Signature)
+  {
+    in.Signature = std::move(signature);
+    this->AccumulatedFrames = 0;
+  }
+
+  if (this->AccumulatedFrames < this->MaximumAccumulatedFrames)
+  {
+    const double start = vtkTimerLog::GetUniversalTime();
+    in.Frame.Resize(width, height);
+    in.Accumulated.Resize(width, height);
+    const unsigned int firstSample =
+      static_cast<unsigned int>(this->AccumulatedFrames) * this->SamplesPerFrame;
+    ptv::TraceFrameCpu(
+      in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads, in.Frame);
+    ++this->AccumulatedFrames;
+    in.Accumulated.Accumulate(in.Frame, this->AccumulatedFrames);
+    this->LastTraceTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
+    this->LastRenderTraced = true;
+  }
+
+  // What to show: the radiance (premultiplied, blended) or a colourised pass (opaque).
+  int shown = ptv::PassRadiance;
+  if (this->DisplayPass && *this->DisplayPass)
+  {
+    shown = ptv::FindPass(this->DisplayPass);
+    if (shown < 0)
+    {
+      report(std::string("unknown DisplayPass '") + this->DisplayPass + "'; showing Radiance");
+      shown = ptv::PassRadiance;
+    }
+  }
+  in.ShownColor.resize(4 * pixels);
+  in.ShownDepth.assign(pixels, 1.0f);
+  const ptv::PassBuffers& acc = in.Accumulated;
+  if (shown == ptv::PassRadiance)
+  {
+    const float* rgb = acc.Data(ptv::PassRadiance);
+    const float* alpha = acc.Data(ptv::PassAlpha);
+    for (std::size_t i = 0; i < pixels; ++i)
+    {
+      std::copy(rgb + 3 * i, rgb + 3 * i + 3, &in.ShownColor[4 * i]);
+      in.ShownColor[4 * i + 3] = alpha[i];
+    }
+  }
+  else
+  {
+    Colorize(shown, acc, in.Inputs.GetWorldBounds(), in.Params.Camera.FarDistance, in.ShownColor);
+  }
+
+  // Window depth of the first event, so later geometry and picking see the volume.
+  const double aspect = static_cast<double>(width) / static_cast<double>(height);
+  vtkMatrix4x4* toNdc =
+    ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
+  const float* depth = acc.Data(ptv::PassDepth);
+  const float far = in.Params.Camera.FarDistance;
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      if (!(depth[i] < 0.999f * far))
+      {
+        continue;
+      }
+      ptv::Vec3 o, d;
+      ptv::GenerateRay(in.Params.Camera, x + 0.5f, y + 0.5f, o, d);
+      const ptv::Vec3 p = o + d * depth[i];
+      const double wp[4] = { p.x, p.y, p.z, 1.0 };
+      double ndc[4];
+      toNdc->MultiplyPoint(wp, ndc);
+      if (ndc[3] != 0.0)
+      {
+        const double z = 0.5 * (ndc[2] / ndc[3]) + 0.5;
+        in.ShownDepth[i] = static_cast<float>(std::min(1.0, std::max(0.0, z)));
+      }
+    }
+  }
+  in.Display.Draw(ren, width, height, in.ShownColor.data(), in.ShownDepth.data());
+}
+
+//------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Internals->Display.ReleaseGraphicsResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SamplesPerFrame: " << this->SamplesPerFrame << "\n";
+  os << indent << "MaximumAccumulatedFrames: " << this->MaximumAccumulatedFrames << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "Scattering: " << this->Scattering << "\n";
+  os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
+  os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";
+  os << indent << "LightIntensity: " << this->LightIntensity << "\n";
+  os << indent << "EnvironmentColor: " << this->EnvironmentColor[0] << ", "
+     << this->EnvironmentColor[1] << ", " << this->EnvironmentColor[2] << "\n";
+  os << indent << "UseBackgroundAsEnvironment: " << this->UseBackgroundAsEnvironment << "\n";
+  os << indent << "EnvironmentIntensity: " << this->EnvironmentIntensity << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
+     << "\n";
+  os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
+  os << indent << "Backend: CPU (vtkSMPTools)\n";
+  os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
+}

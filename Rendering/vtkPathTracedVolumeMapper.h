@@ -1,0 +1,222 @@
+/**
+ * @class vtkPathTracedVolumeMapper
+ * @brief Monte Carlo path-traced volume mapper with named render passes and accumulation.
+ *
+ * Traces one sample per pixel per frame (SamplesPerFrame) through a scalar vtkImageData using the
+ * ordinary vtkVolumeProperty (colour, scalar opacity and gradient opacity functions, scalar
+ * opacity unit distance, shading coefficients, interpolation type), the vtkVolume matrix, the
+ * image's spacing/origin/direction, and one key light: the renderer's first switched-on scene or
+ * camera light, or, when the renderer has only its automatic headlight (or UseRendererLight is
+ * off), a point light above the volume as in the seed paper. The environment is a uniform colour
+ * (default: the renderer's background).
+ *
+ * One frame, top-down: this class gathers frame inputs (ptvSceneBuilder) -> the CPU driver runs
+ * the per-pixel estimator of Kernels/ptvIntegrator.h (ptvCpuTracer, vtkSMPTools) -> the samples
+ * are averaged into named passes (ptvPassBuffers) -> the chosen pass is drawn with per-pixel depth
+ * (ptvDisplay). While camera, volume, transfer functions, light, viewport and opaque geometry stay
+ * unchanged, frames accumulate as a running mean up to MaximumAccumulatedFrames; any change
+ * resets. Random numbers depend on (pixel, frame, Seed) only, so images are identical across
+ * runs and thread counts.
+ *
+ * Passes (GetPassName): "Radiance" (premultiplied HDR RGB), "Alpha", "Albedo", "Depth",
+ * "Position", "Normal" (first non-transparent sample), "ScatterDepth", "ScatterPosition",
+ * "ScatterNormal" (the scattering event). Depth is the world distance from the eye; misses have
+ * depth = camera far distance, position 0, normal 0.
+ */
+#ifndef vtkPathTracedVolumeMapper_h
+#define vtkPathTracedVolumeMapper_h
+
+#include "vtkPTVRenderingModule.h" // for export macro
+#include "vtkVolumeMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkImageData;
+class vtkWindow;
+
+class VTKPTVRENDERING_EXPORT vtkPathTracedVolumeMapper : public vtkVolumeMapper
+{
+public:
+  static vtkPathTracedVolumeMapper* New();
+  vtkTypeMacro(vtkPathTracedVolumeMapper, vtkVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Samples traced per pixel in each rendered frame. Default 1, range [1, 4096].
+   */
+  vtkSetClampMacro(SamplesPerFrame, int, 1, 4096);
+  vtkGetMacro(SamplesPerFrame, int);
+  ///@}
+
+  ///@{
+  /**
+   * Most frames averaged while the view stays unchanged; once reached, further renders redraw
+   * the converged image without tracing. Default 1024, range [1, 1000000].
+   */
+  vtkSetClampMacro(MaximumAccumulatedFrames, int, 1, 1000000);
+  vtkGetMacro(MaximumAccumulatedFrames, int);
+  ///@}
+
+  ///@{
+  /**
+   * User seed mixed into every pixel's random stream. Default 0.
+   */
+  vtkSetMacro(Seed, unsigned int);
+  vtkGetMacro(Seed, unsigned int);
+  ///@}
+
+  ///@{
+  /**
+   * Single scattering at a random opacity threshold (on) or a surface-like event at the first
+   * non-transparent sample (off). Default on.
+   */
+  vtkSetMacro(Scattering, bool);
+  vtkGetMacro(Scattering, bool);
+  vtkBooleanMacro(Scattering, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Trace the visibility of the environment light (ambient occlusion) or light unoccluded.
+   * Default on.
+   */
+  vtkSetMacro(AmbientOcclusion, bool);
+  vtkGetMacro(AmbientOcclusion, bool);
+  vtkBooleanMacro(AmbientOcclusion, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Use the renderer's first switched-on scene or camera light as key light. When off, or when
+   * the renderer has only its automatic headlight, a point light is placed above the volume
+   * (along the camera's view-up, 1.5 bounding-box diagonals from the centre). Default on.
+   */
+  vtkSetMacro(UseRendererLight, bool);
+  vtkGetMacro(UseRendererLight, bool);
+  vtkBooleanMacro(UseRendererLight, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Key-light intensity multiplier. Default 1, range [0, 1e6].
+   */
+  vtkSetClampMacro(LightIntensity, double, 0.0, 1e6);
+  vtkGetMacro(LightIntensity, double);
+  ///@}
+
+  ///@{
+  /**
+   * Uniform environment radiance. When UseBackgroundAsEnvironment is on (default) the renderer's
+   * background colour is used instead of EnvironmentColor (default (1,1,1)).
+   * EnvironmentIntensity scales either. Default 1, range [0, 1e6].
+   */
+  vtkSetVector3Macro(EnvironmentColor, double);
+  vtkGetVector3Macro(EnvironmentColor, double);
+  vtkSetMacro(UseBackgroundAsEnvironment, bool);
+  vtkGetMacro(UseBackgroundAsEnvironment, bool);
+  vtkBooleanMacro(UseBackgroundAsEnvironment, bool);
+  vtkSetClampMacro(EnvironmentIntensity, double, 0.0, 1e6);
+  vtkGetMacro(EnvironmentIntensity, double);
+  ///@}
+
+  ///@{
+  /**
+   * Empty-space skipping over a brick grid rebuilt when volume or transfer function change.
+   * Does not change the image (the sample positions are the same). Default on.
+   */
+  vtkSetMacro(EmptySpaceSkipping, bool);
+  vtkGetMacro(EmptySpaceSkipping, bool);
+  vtkBooleanMacro(EmptySpaceSkipping, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Threads used to trace a frame; 0 (default) uses every core. Frames are bit-identical for
+   * any value. When VTK's SMP backend is "Sequential" the tracer uses "STDThread" for its own
+   * loop only.
+   */
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /**
+   * Pass shown in the render window; empty (default) shows "Radiance". Vectors are shown as
+   * |x| per channel, depths normalised to the volume's depth range.
+   */
+  vtkSetStringMacro(DisplayPass);
+  vtkGetStringMacro(DisplayPass);
+  ///@}
+
+  ///@{
+  /// Number and names of the render passes, in a stable order.
+  static int GetNumberOfPasses();
+  static const char* GetPassName(int index);
+  ///@}
+
+  /**
+   * Copy the named pass of the current accumulation into @a output as a float vtkImageData
+   * (extent = the viewport's pixels, one point-data array named after the pass, 1 or 3
+   * components). Returns false with an error for an unknown name or before the first render.
+   */
+  bool GetPass(const char* name, vtkImageData* output);
+
+  ///@{
+  /**
+   * Whether this build has the CUDA path and the machine has a usable CUDA device, and a
+   * one-line report (e.g. "built without CUDA ..." or "no usable CUDA device (error 35 ...)").
+   * Frames are traced on the CPU today; the CUDA tracer uses this to choose its backend.
+   */
+  static bool GetCudaAvailable();
+  static const char* GetCudaStatus();
+  ///@}
+
+  /// Frames averaged so far in the current accumulation (0 before the first render).
+  vtkGetMacro(AccumulatedFrames, int);
+
+  /// Drop the accumulation; the next render starts again from frame 0.
+  void ResetAccumulation();
+
+  /// Whether the last render traced a new frame (false once MaximumAccumulatedFrames is reached).
+  vtkGetMacro(LastRenderTraced, bool);
+
+  /// Milliseconds spent tracing in the last render (0 if it did not trace).
+  vtkGetMacro(LastTraceTime, double);
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+protected:
+  vtkPathTracedVolumeMapper();
+  ~vtkPathTracedVolumeMapper() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  int SamplesPerFrame = 1;
+  int MaximumAccumulatedFrames = 1024;
+  unsigned int Seed = 0;
+  bool Scattering = true;
+  bool AmbientOcclusion = true;
+  bool UseRendererLight = true;
+  double LightIntensity = 1.0;
+  double EnvironmentColor[3] = { 1.0, 1.0, 1.0 };
+  bool UseBackgroundAsEnvironment = true;
+  double EnvironmentIntensity = 1.0;
+  bool EmptySpaceSkipping = true;
+  int NumberOfThreads = 0;
+  char* DisplayPass = nullptr;
+
+  int AccumulatedFrames = 0;
+  bool LastRenderTraced = false;
+  double LastTraceTime = 0.0;
+
+private:
+  vtkPathTracedVolumeMapper(const vtkPathTracedVolumeMapper&) = delete;
+  void operator=(const vtkPathTracedVolumeMapper&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

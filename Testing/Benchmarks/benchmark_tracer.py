@@ -1,0 +1,150 @@
+#!/usr/bin/env python3
+"""Benchmark: 1-spp frame time of vtkPathTracedVolumeMapper vs VTK's vtkFixedPointVolumeRayCastMapper.
+
+For every dataset and image size, both mappers render the same volume, transfer function (the
+dataset's two-band preset), shading and camera in the same run. Each figure is the median of
+--repeats timed renders after one warm-up. Our frames are forced to be fresh 1-spp frames by
+changing the seed before each render (an unchanged view would only accumulate).
+
+Reported per row: whole-render time of each mapper (window.Render(), so both include drawing),
+our trace time alone, samples (pixels) per second, the ratio ours/stock, and our 1- vs 2-thread
+trace times (scaling).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
+
+from tqdm import tqdm  # noqa: E402
+
+
+def parse_args() -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--datasets", nargs="+", default=["head", "stent", "concrete"])
+    parser.add_argument("--sizes", nargs="+", type=int, default=[256, 512, 1024])
+    parser.add_argument("--repeats", type=int, default=5, help="timed renders per figure")
+    parser.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
+    return parser.parse_args()
+
+
+def build_scene(dataset: str, size: int):
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+    from vtkmodules.vtkRenderingCore import (vtkRenderer, vtkRenderWindow, vtkVolume,
+                                             vtkVolumeProperty)
+    from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+    from pathtracedvolume import vtkPathTracedVolumeMapper
+    from pathtracedvolume.datasets import dataset_path
+    from pathtracedvolume.presets import apply_preset, find_preset
+
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(str(dataset_path(dataset)))
+    reader.Update()
+    prop = vtkVolumeProperty()
+    apply_preset(find_preset(f"{dataset.capitalize()} Two-Band (paper)"), prop)
+    prop.ShadeOn()
+    prop.SetInterpolationTypeToLinear()
+
+    ours = vtkPathTracedVolumeMapper()
+    stock = vtkFixedPointVolumeRayCastMapper()
+    stock.SetAutoAdjustSampleDistances(0)  # full quality, as ours
+    for mapper in (ours, stock):
+        mapper.SetInputConnection(reader.GetOutputPort())
+    volume = vtkVolume()
+    volume.SetProperty(prop)
+    renderer = vtkRenderer()
+    renderer.AddVolume(volume)
+    renderer.SetBackground(0.3, 0.3, 0.35)
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(0, -1, 0)
+    camera.SetFocalPoint(0, 0, 0)
+    camera.SetViewUp(0, 0, 1)
+    camera.Azimuth(30)
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(size, size)
+    window.AddRenderer(renderer)
+    volume.SetMapper(stock)
+    renderer.ResetCamera()
+    return window, volume, ours, stock
+
+
+def median_ms(fn, repeats: int) -> float:
+    fn()  # warm-up
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(1000.0 * (time.perf_counter() - start))
+    return statistics.median(times)
+
+
+def measure(dataset: str, size: int, repeats: int) -> dict:
+    window, volume, ours, stock = build_scene(dataset, size)
+    volume.SetMapper(stock)
+    stock_ms = median_ms(window.Render, repeats)
+
+    volume.SetMapper(ours)
+    seed = [0]
+    trace_ms: dict[int, list[float]] = {}
+
+    def render_ours(threads: int) -> None:
+        seed[0] += 1
+        ours.SetSeed(seed[0])
+        ours.SetNumberOfThreads(threads)
+        window.Render()
+        trace_ms.setdefault(threads, []).append(ours.GetLastTraceTime())
+
+    ours_ms = median_ms(lambda: render_ours(0), repeats)
+    trace_all = statistics.median(trace_ms[0][1:])
+    median_ms(lambda: render_ours(1), repeats)
+    trace_1 = statistics.median(trace_ms[1][1:])
+    median_ms(lambda: render_ours(2), repeats)
+    trace_2 = statistics.median(trace_ms[2][1:])
+    return {
+        "dataset": dataset, "size": size,
+        "stock_ms": stock_ms, "ours_ms": ours_ms, "ours_trace_ms": trace_all,
+        "ratio": ours_ms / stock_ms,
+        "samples_per_s": size * size / (trace_all / 1000.0),
+        "trace_1thread_ms": trace_1, "trace_2threads_ms": trace_2,
+        "scaling_2_over_1": trace_1 / trace_2,
+    }
+
+
+def main() -> int:
+    args = parse_args()
+    rows = []
+    jobs = [(d, s) for d in args.datasets for s in args.sizes]
+    for dataset, size in tqdm(jobs, desc="benchmark", unit="case"):
+        rows.append(measure(dataset, size, args.repeats))
+    print(f"\nmachine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
+          f"median of {args.repeats} renders after a warm-up; 1 spp, shading on, two-band preset")
+    header = ("dataset", "size", "stock ms", "ours ms", "ratio", "trace ms", "Msamples/s",
+              "1 thr ms", "2 thr ms", "2/1 speed-up")
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for r in rows:
+        print(f"| {r['dataset']} | {r['size']}² | {r['stock_ms']:.0f} | {r['ours_ms']:.0f} | "
+              f"{r['ratio']:.2f} | {r['ours_trace_ms']:.0f} | {r['samples_per_s'] / 1e6:.2f} | "
+              f"{r['trace_1thread_ms']:.0f} | {r['trace_2threads_ms']:.0f} | "
+              f"{r['scaling_2_over_1']:.2f} |")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        tmp = args.json.with_suffix(".tmp")
+        tmp.write_text(json.dumps(rows, indent=2))
+        tmp.replace(args.json)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,300 @@
+// vtkPathTracedVolumeMapper behaviour, without baselines:
+//  - accumulation counts frames, stops at MaximumAccumulatedFrames, resets on camera, transfer
+//    function, light, size and setting changes, and not on DisplayPass changes;
+//  - every pass is readable as a float vtkImageData with finite values of the right shape;
+//  - images are bit-identical with 1 and 2 threads, and with and without empty-space skipping;
+//  - bad input (NaN voxels, empty volume, one voxel, multi-component scalars, camera inside the
+//    volume, zero-size viewport) gives the documented error or behaviour and never crashes.
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkPathTracedVolumeMapper.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRTAnalyticSource.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkTestErrorObserver.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace
+{
+int failures = 0;
+void Check(bool ok, const std::string& what)
+{
+  std::cout << (ok ? "ok   " : "FAIL ") << what << "\n";
+  failures += ok ? 0 : 1;
+}
+
+struct Scene
+{
+  vtkNew<vtkRTAnalyticSource> Source;
+  vtkNew<vtkColorTransferFunction> Color;
+  vtkNew<vtkPiecewiseFunction> Opacity;
+  vtkNew<vtkVolumeProperty> Property;
+  vtkNew<vtkPathTracedVolumeMapper> Mapper;
+  vtkNew<vtkVolume> Volume;
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+
+  explicit Scene(int size = 64)
+  {
+    this->Source->SetWholeExtent(-16, 16, -16, 16, -16, 16);
+    this->Color->AddRGBPoint(37, 0.2, 0.4, 1.0);
+    this->Color->AddRGBPoint(277, 1.0, 0.9, 0.5);
+    this->Opacity->AddPoint(37, 0.0);
+    this->Opacity->AddPoint(150, 0.0);
+    this->Opacity->AddPoint(277, 0.8);
+    this->Property->SetColor(this->Color);
+    this->Property->SetScalarOpacity(this->Opacity);
+    this->Property->ShadeOn();
+    this->Mapper->SetInputConnection(this->Source->GetOutputPort());
+    this->Volume->SetMapper(this->Mapper);
+    this->Volume->SetProperty(this->Property);
+    this->Renderer->AddVolume(this->Volume);
+    this->Renderer->SetBackground(0.4, 0.4, 0.4);
+    this->Renderer->GetActiveCamera()->Azimuth(20);
+    this->Renderer->ResetCamera();
+    this->Window->SetSize(size, size);
+    this->Window->AddRenderer(this->Renderer);
+  }
+
+  std::vector<float> Pass(const char* name)
+  {
+    vtkNew<vtkImageData> image;
+    if (!this->Mapper->GetPass(name, image))
+    {
+      return {};
+    }
+    vtkFloatArray* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
+    return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+  }
+};
+
+bool AllFinite(const std::vector<float>& v)
+{
+  for (float x : v)
+  {
+    if (!std::isfinite(x))
+    {
+      return false;
+    }
+  }
+  return !v.empty();
+}
+
+void TestAccumulation()
+{
+  Scene s;
+  s.Mapper->SetMaximumAccumulatedFrames(3);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1 && s.Mapper->GetLastRenderTraced(), "first frame");
+  s.Window->Render();
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 3, "three frames accumulate");
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 3 && !s.Mapper->GetLastRenderTraced(),
+    "no tracing past MaximumAccumulatedFrames");
+  s.Mapper->SetDisplayPass("Normal");
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 3, "DisplayPass change keeps the accumulation");
+  s.Mapper->SetDisplayPass(nullptr);
+
+  s.Renderer->GetActiveCamera()->Azimuth(1);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "camera change resets");
+  s.Window->Render();
+  s.Opacity->AddPoint(200, 0.5);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "opacity function change resets");
+  s.Window->Render();
+  s.Color->AddRGBPoint(100, 1, 0, 0);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "colour function change resets");
+  s.Window->Render();
+  s.Mapper->SetSeed(3);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "seed change resets");
+  s.Window->Render();
+  s.Window->SetSize(70, 64);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "viewport size change resets");
+  s.Window->Render();
+  vtkNew<vtkLight> light;
+  light->SetPositional(true);
+  light->SetPosition(0, 0, 100);
+  s.Renderer->AddLight(light);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "adding a scene light resets");
+  s.Window->Render();
+  light->SetPosition(0, 100, 0);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "moving the light resets");
+  s.Window->Render();
+  s.Source->SetMaximum(300);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "volume change resets");
+  s.Property->SetInterpolationTypeToLinear(); // VTK's default is nearest
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "interpolation change resets (to linear)");
+  const std::vector<float> linear = s.Pass("Radiance");
+  s.Property->SetInterpolationTypeToNearest();
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "interpolation change resets");
+  Check(s.Pass("Radiance") != linear, "nearest interpolation changes the image");
+}
+
+void TestPasses()
+{
+  Scene s(48);
+  vtkNew<vtkTest::ErrorObserver> errors;
+  s.Mapper->AddObserver(vtkCommand::ErrorEvent, errors);
+  vtkNew<vtkImageData> image;
+  Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
+  s.Window->Render();
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 9, "nine passes");
+  for (int i = 0; i < vtkPathTracedVolumeMapper::GetNumberOfPasses(); ++i)
+  {
+    const char* name = vtkPathTracedVolumeMapper::GetPassName(i);
+    Check(s.Mapper->GetPass(name, image), std::string("pass ") + name);
+    vtkDataArray* a = image->GetPointData()->GetScalars();
+    const int comps = a ? a->GetNumberOfComponents() : 0;
+    Check(a && std::strcmp(a->GetName(), name) == 0 && a->GetNumberOfTuples() == 48 * 48 &&
+        (comps == 1 || comps == 3),
+      std::string("pass ") + name + " shape");
+    Check(AllFinite(s.Pass(name)), std::string("pass ") + name + " finite");
+  }
+  Check(vtkPathTracedVolumeMapper::GetPassName(99) == nullptr, "out-of-range pass name");
+  Check(!s.Mapper->GetPass("Nope", image), "unknown pass is an error");
+  Check(errors->CheckErrorMessage("'Nope'") == 0, "error names the unknown pass");
+  const auto alpha = s.Pass("Alpha");
+  float covered = 0;
+  for (float a : alpha)
+  {
+    covered += a;
+  }
+  Check(covered > 0.05f * alpha.size() && covered < 0.95f * alpha.size(),
+    "the volume covers part of the view");
+}
+
+void TestDeterminism()
+{
+  std::vector<float> one, two, noSkip;
+  {
+    Scene s;
+    s.Mapper->SetNumberOfThreads(1);
+    s.Window->Render();
+    one = s.Pass("Radiance");
+  }
+  {
+    Scene s;
+    s.Mapper->SetNumberOfThreads(2);
+    s.Window->Render();
+    two = s.Pass("Radiance");
+    s.Mapper->EmptySpaceSkippingOff(); // does not change the image, so it keeps accumulating:
+    s.Mapper->ResetAccumulation();      // start again to compare frame 0 with frame 0
+    s.Window->Render();
+    noSkip = s.Pass("Radiance");
+  }
+  std::cout << "application SMP backend: " << vtkSMPTools::GetBackend() << "\n";
+  Check(!one.empty() && one == two, "bit-identical with 1 and 2 threads");
+  Check(two == noSkip, "bit-identical with and without empty-space skipping");
+}
+
+void TestBadInput()
+{
+  // NaN voxels: rendered transparent with one warning.
+  {
+    Scene s(32);
+    vtkNew<vtkImageData> image;
+    s.Source->Update();
+    image->DeepCopy(s.Source->GetOutput());
+    vtkDataArray* a = image->GetPointData()->GetScalars();
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); i += 7)
+    {
+      a->SetTuple1(i, std::numeric_limits<double>::quiet_NaN());
+    }
+    s.Mapper->SetInputData(image);
+    vtkNew<vtkTest::ErrorObserver> obs;
+    s.Mapper->AddObserver(vtkCommand::WarningEvent, obs);
+    s.Window->Render();
+    Check(obs->CheckWarningMessage("NaN or infinite") == 0, "NaN voxels warn");
+    Check(AllFinite(s.Pass("Radiance")), "NaN voxels give a finite image");
+  }
+  // Empty volume: an error naming the dimensions.
+  {
+    Scene s(32);
+    vtkNew<vtkImageData> empty;
+    s.Mapper->SetInputData(empty);
+    vtkNew<vtkTest::ErrorObserver> obs;
+    s.Mapper->AddObserver(vtkCommand::ErrorEvent, obs);
+    s.Window->Render();
+    Check(obs->CheckErrorMessage("empty volume") == 0, "empty volume is an error");
+    Check(s.Mapper->GetAccumulatedFrames() == 0, "nothing traced for an empty volume");
+  }
+  // One voxel: renders nothing (a zero-thickness box), no error.
+  {
+    Scene s(32);
+    vtkNew<vtkImageData> one;
+    one->SetDimensions(1, 1, 1);
+    one->AllocateScalars(VTK_FLOAT, 1);
+    one->GetPointData()->GetScalars()->SetTuple1(0, 250);
+    s.Mapper->SetInputData(one);
+    s.Window->Render();
+    const auto alpha = s.Pass("Alpha");
+    Check(AllFinite(alpha), "one voxel renders without error");
+  }
+  // Multi-component scalars: an error naming the component count.
+  {
+    Scene s(32);
+    vtkNew<vtkImageData> rgb;
+    rgb->SetDimensions(4, 4, 4);
+    rgb->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+    s.Mapper->SetInputData(rgb);
+    vtkNew<vtkTest::ErrorObserver> obs;
+    s.Mapper->AddObserver(vtkCommand::ErrorEvent, obs);
+    s.Window->Render();
+    Check(obs->CheckErrorMessage("3 components") == 0, "multi-component scalars are an error");
+  }
+  // Camera inside the volume: finite output, something visible.
+  {
+    Scene s(32);
+    s.Renderer->GetActiveCamera()->SetPosition(0, 0, 0);
+    s.Renderer->GetActiveCamera()->SetFocalPoint(0, 0, 10);
+    s.Renderer->ResetCameraClippingRange();
+    s.Window->Render();
+    Check(AllFinite(s.Pass("Radiance")), "camera inside the volume gives a finite image");
+  }
+  // Zero-size viewport: no frame, no error, no crash.
+  {
+    Scene s(32);
+    s.Renderer->SetViewport(0.5, 0.5, 0.5, 0.5);
+    s.Window->Render();
+    Check(s.Mapper->GetAccumulatedFrames() == 0, "zero-size viewport traces nothing");
+  }
+}
+}
+
+int TestPTVMapperBehavior(int, char*[])
+{
+  TestAccumulation();
+  TestPasses();
+  TestDeterminism();
+  TestBadInput();
+  return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

@@ -1,0 +1,183 @@
+// Regression images of vtkPathTracedVolumeMapper. One function, many cases (argv: the case
+// name), each compared with Testing/Data/Baseline/TestPTVMapperImage_<case>.png:
+//   synthetic_1spp, synthetic_256spp     a synthetic two-band volume, fixed seed
+//   head_1spp, head_256spp               the head CT with its paper preset
+//   pass_<Name>                          each auxiliary pass shown through DisplayPass
+//   sphere                               an opaque polygonal sphere intersecting the volume
+// The tracer is deterministic (seeded per pixel and frame), so the threshold only absorbs
+// OpenGL differences; a real change of the estimator moves many pixels and fails.
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPTVTransferFunctionPreset.h"
+#include "vtkPathTracedVolumeMapper.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRTAnalyticSource.h"
+#include "vtkRegressionTestImage.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSphereSource.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtkXMLImageDataReader.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+namespace
+{
+std::string ArgAfter(int argc, char* argv[], const std::string& flag)
+{
+  for (int i = 1; i + 1 < argc; ++i)
+  {
+    if (flag == argv[i])
+    {
+      return argv[i + 1];
+    }
+  }
+  return {};
+}
+
+// The last argument not belonging to a -X flag is the case name.
+std::string CaseName(int argc, char* argv[])
+{
+  std::string name;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a.size() == 2 && a[0] == '-')
+    {
+      ++i;
+      continue;
+    }
+    name = a;
+  }
+  return name;
+}
+
+void SyntheticTransfer(vtkVolumeProperty* property)
+{
+  // The paper's two bands on the wavelet's range (~37..277): outer yellow 0.7, inner white 1.0.
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(0, 1, 1, 0);
+  color->AddRGBPoint(209.9, 1, 1, 0);
+  color->AddRGBPoint(210, 1, 1, 1);
+  color->AddRGBPoint(300, 1, 1, 1);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0, 0);
+  opacity->AddPoint(159.9, 0);
+  opacity->AddPoint(160, 0.7);
+  opacity->AddPoint(185, 0.7);
+  opacity->AddPoint(185.1, 0);
+  opacity->AddPoint(209.9, 0);
+  opacity->AddPoint(210, 1);
+  opacity->AddPoint(300, 1);
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+}
+}
+
+int TestPTVMapperImage(int argc, char* argv[])
+{
+  const std::string name = CaseName(argc, argv);
+  const bool head = name.rfind("head", 0) == 0;
+  const bool accumulate = name.find("256spp") != std::string::npos;
+  std::cout << "case: " << name << "\n";
+
+  vtkNew<vtkVolumeProperty> property;
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOn();
+  vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->SetSeed(7);
+  if (head)
+  {
+    const std::string file = ArgAfter(argc, argv, "-D") + "/head.vti";
+    vtkNew<vtkXMLImageDataReader> reader;
+    if (!reader->CanReadFile(file.c_str()))
+    {
+      std::cerr << "missing dataset " << file << " (run scripts/fetch_datasets.py)\n";
+      return EXIT_FAILURE;
+    }
+    reader->SetFileName(file.c_str());
+    mapper->SetInputConnection(reader->GetOutputPort());
+    vtkNew<vtkPTVTransferFunctionPreset> presets;
+    presets->SetFileName(
+      (vtkPTVTransferFunctionPreset::GetDefaultPresetDirectory() + "/head.json").c_str());
+    if (!presets->Load() || !presets->ApplyPreset("Head Two-Band (paper)", property))
+    {
+      return EXIT_FAILURE;
+    }
+  }
+  else
+  {
+    vtkNew<vtkRTAnalyticSource> source;
+    source->SetWholeExtent(-24, 24, -24, 24, -24, 24);
+    source->Update();
+    mapper->SetInputConnection(source->GetOutputPort());
+    SyntheticTransfer(property);
+    property->SetScalarOpacityUnitDistance(2.0);
+  }
+  if (name.rfind("pass_", 0) == 0)
+  {
+    mapper->SetDisplayPass(name.substr(5).c_str());
+  }
+
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(mapper);
+  volume->SetProperty(property);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddVolume(volume);
+  renderer->SetBackground(0.3, 0.3, 0.35); // also the environment light
+  if (name == "sphere")
+  {
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(-24, 0, 10); // half inside the volume, half outside it
+    sphere->SetRadius(12);
+    sphere->SetThetaResolution(48);
+    sphere->SetPhiResolution(48);
+    vtkNew<vtkPolyDataMapper> sphereMapper;
+    sphereMapper->SetInputConnection(sphere->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(sphereMapper);
+    actor->GetProperty()->SetColor(0.2, 0.5, 1.0);
+    renderer->AddActor(actor);
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (head)
+  {
+    camera->SetPosition(0, -1, 0);
+    camera->SetFocalPoint(0, 0, 0);
+    camera->SetViewUp(0, 0, 1);
+    camera->Azimuth(30);
+  }
+  else
+  {
+    camera->Azimuth(30);
+    camera->Elevation(20);
+  }
+  renderer->ResetCamera();
+
+  vtkNew<vtkRenderWindow> window;
+  window->SetSize(200, 200);
+  window->SetMultiSamples(0);
+  window->AddRenderer(renderer);
+  const int frames = accumulate ? 256 : 1;
+  mapper->SetMaximumAccumulatedFrames(frames);
+  for (int i = 0; i < frames; ++i)
+  {
+    window->Render();
+  }
+  if (mapper->GetAccumulatedFrames() != frames)
+  {
+    std::cerr << "expected " << frames << " accumulated frames, got "
+              << mapper->GetAccumulatedFrames() << "\n";
+    return EXIT_FAILURE;
+  }
+  const int result = vtkRegressionTestImageThreshold(window, 0.05);
+  return result == vtkRegressionTester::PASSED ? EXIT_SUCCESS : EXIT_FAILURE;
+}

@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""Render one of the project's datasets to a PNG with the path tracer (the README's main job).
+
+vtkPathTracedVolumeMapper traces --spp frames of 1 sample per pixel and shows their running mean;
+--mapper stock renders the same scene with VTK's vtkFixedPointVolumeRayCastMapper instead, for
+comparison. --passes-dir also writes every render pass as a float .vti image.
+(The learned denoiser joins this command when it lands.)
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
+
+from pathtracedvolume.datasets import dataset_path  # noqa: E402
+from pathtracedvolume.presets import apply_preset, find_preset  # noqa: E402
+from tqdm import tqdm  # noqa: E402
+
+DATASETS = ("head", "stent", "concrete")
+
+
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--dataset", choices=DATASETS, default="head",
+                        help="dataset from the data cache (default: head)")
+    parser.add_argument("--preset", default=None,
+                        help="preset name (default: '<Dataset> Two-Band (paper)')")
+    parser.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"),
+                        help="image size in pixels (default: 512 512)")
+    parser.add_argument("--azimuth", type=float, default=0.0, help="camera azimuth in degrees")
+    parser.add_argument("--elevation", type=float, default=0.0, help="camera elevation in degrees")
+    parser.add_argument("--mapper", choices=("pathtraced", "stock"), default="pathtraced",
+                        help="renderer (default: pathtraced)")
+    parser.add_argument("--spp", type=int, default=64,
+                        help="frames of 1 spp to accumulate (default: 64)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    parser.add_argument("--output", type=Path, default=ROOT / "out" / "render.png",
+                        help="PNG to write (folders are created)")
+    parser.add_argument("--passes-dir", type=Path, default=None,
+                        help="also write every render pass as <dir>/<Pass>.vti")
+    return parser.parse_args(argv)
+
+
+def render(args: argparse.Namespace) -> float:
+    """Render and write the PNG (and passes); returns the render time in seconds."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter
+    from vtkmodules.vtkRenderingCore import (vtkRenderer, vtkRenderWindow, vtkVolume,
+                                             vtkVolumeProperty, vtkWindowToImageFilter)
+    from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL factories)
+    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(str(dataset_path(args.dataset)))
+    reader.Update()
+
+    prop = vtkVolumeProperty()
+    preset_name = args.preset or f"{args.dataset.capitalize()} Two-Band (paper)"
+    apply_preset(find_preset(preset_name), prop)
+    prop.SetInterpolationTypeToLinear()
+    prop.ShadeOn()
+
+    if args.mapper == "stock":
+        mapper = vtkFixedPointVolumeRayCastMapper()
+    else:
+        from pathtracedvolume import vtkPathTracedVolumeMapper
+        mapper = vtkPathTracedVolumeMapper()
+        mapper.SetSeed(args.seed)
+        mapper.SetMaximumAccumulatedFrames(max(1, args.spp))
+    mapper.SetInputConnection(reader.GetOutputPort())
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+
+    renderer = vtkRenderer()
+    renderer.AddVolume(volume)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    camera = renderer.GetActiveCamera()
+    # Look at the face: the CT's y axis runs front to back, z runs up.
+    camera.SetPosition(0, -1, 0)
+    camera.SetFocalPoint(0, 0, 0)
+    camera.SetViewUp(0, 0, 1)
+    camera.Azimuth(args.azimuth)
+    camera.Elevation(args.elevation)
+    renderer.ResetCamera()
+
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(*args.size)
+    window.AddRenderer(renderer)
+    frames = max(1, args.spp) if args.mapper == "pathtraced" else 1
+    start = time.perf_counter()
+    for _ in tqdm(range(frames), desc="frames", unit="frame", disable=frames < 8):
+        window.Render()
+    seconds = time.perf_counter() - start
+
+    if args.passes_dir is not None and args.mapper == "pathtraced":
+        args.passes_dir.mkdir(parents=True, exist_ok=True)
+        for i in range(mapper.GetNumberOfPasses()):
+            name = mapper.GetPassName(i)
+            image = vtkImageData()
+            mapper.GetPass(name, image)
+            pass_writer = vtkXMLImageDataWriter()
+            target = args.passes_dir / f"{name}.vti"
+            pass_writer.SetFileName(str(target.with_suffix(".tmp.vti")))
+            pass_writer.SetInputData(image)
+            pass_writer.Write()
+            target.with_suffix(".tmp.vti").replace(target)
+
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.Update()
+    args.output.parent.mkdir(parents=True, exist_ok=True)
+    tmp = args.output.with_suffix(".tmp.png")
+    writer = vtkPNGWriter()
+    writer.SetFileName(str(tmp))
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    tmp.replace(args.output)
+    return seconds
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    seconds = render(args)
+    what = (f"path traced, {args.spp} spp" if args.mapper == "pathtraced"
+            else "stock CPU ray caster")
+    print(f"wrote {args.output} ({args.size[0]}x{args.size[1]}, {args.dataset}, {what}, "
+          f"{seconds:.1f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
