@@ -8,7 +8,9 @@ start=$(date +%s)
 bash "$ROOT/scripts/setup.sh" --cuda
 cd "$BUILD"
 set +e
-xvfb-run -a -s "-screen 0 1024x768x24" ctest --output-on-failure --timeout 1800 "$@"
+# -n: start the free-display search at a per-process number, so parallel runs never share :99.
+xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24" \
+  ctest --output-on-failure --timeout 1800 "$@"
 rc=$?
 set -e
 echo "scripts/test.sh: wall time $(( $(date +%s) - start )) s, ctest exit code $rc"
