@@ -108,6 +108,29 @@ void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, c
 }
 
 //------------------------------------------------------------------------------
+bool Display::ReadDepth(vtkRenderer* ren, int x0, int y0, int width, int height, float* depth)
+{
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!win || width <= 0 || height <= 0)
+  {
+    return false;
+  }
+  vtkOpenGLState* state = win->GetState();
+  unsigned int drawBinding = 0, drawBuffer = 0;
+  state->GetCurrentDrawFramebufferState(drawBinding, drawBuffer);
+  state->PushReadFramebufferBinding();
+  state->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, drawBinding);
+  while (glGetError() != GL_NO_ERROR)
+  {
+  }
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(x0, y0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+  const bool ok = glGetError() == GL_NO_ERROR; // e.g. a multisampled framebuffer cannot be read
+  state->PopReadFramebufferBinding();
+  return ok;
+}
+
+//------------------------------------------------------------------------------
 void Display::ReleaseGraphicsResources(vtkWindow* window)
 {
   if (this->Impl->Quad)

@@ -29,6 +29,13 @@ public:
    */
   void Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth);
 
+  /**
+   * Read the depth buffer of the framebuffer being drawn (not whatever read buffer the window
+   * left bound: after a window grab that is the displayed frame, which holds the volume's own
+   * depth) for the renderer's viewport. Returns false (and leaves @a depth alone) on failure.
+   */
+  static bool ReadDepth(vtkRenderer* ren, int x0, int y0, int width, int height, float* depth);
+
   void ReleaseGraphicsResources(vtkWindow* window);
 
 private:

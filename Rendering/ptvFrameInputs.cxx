@@ -77,6 +77,24 @@ Vec3 ToVec3(const double v[3])
 }
 
 //------------------------------------------------------------------------------
+bool FrameSignature::Matches(const FrameSignature& other) const
+{
+  if (this->Exact != other.Exact || this->Approximate.size() != other.Approximate.size())
+  {
+    return false;
+  }
+  for (std::size_t i = 0; i < this->Approximate.size(); ++i)
+  {
+    const double a = this->Approximate[i], b = other.Approximate[i];
+    if (std::abs(a - b) > 1e-6 * std::max({ 1.0, std::abs(a), std::abs(b) }))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 bool FrameInputs::UpdateVolume(
   vtkImageData* image, vtkDataArray* scalars, std::string& error, vtkIdType& nonFinite)
 {
@@ -233,11 +251,14 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
 //------------------------------------------------------------------------------
 bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   const FrameSettings& settings, int width, int height, const std::vector<float>& zbuffer,
-  TraceParams& p, std::vector<double>& signature, std::string& error)
+  TraceParams& p, FrameSignature& signature, std::string& error)
 {
   p = TraceParams{};
-  signature.clear();
-  auto sign = [&signature](const double* v, int n) { signature.insert(signature.end(), v, v + n); };
+  signature.Clear();
+  auto sign = [&signature](const double* v, int n)
+  { signature.Exact.insert(signature.Exact.end(), v, v + n); };
+  auto signApprox = [&signature](const double* v, int n)
+  { signature.Approximate.insert(signature.Approximate.end(), v, v + n); };
 
   // Index -> world: volume matrix * (origin + direction * diag(spacing) * ijk).
   double spacing[3], origin[3];
@@ -293,8 +314,8 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     }
     g.WorldToIndex[4 * r + 3] = static_cast<float>(ti);
   }
-  sign(&a[0][0], 9);
-  sign(t, 3);
+  signApprox(&a[0][0], 9);
+  signApprox(t, 3);
   double step = std::numeric_limits<double>::max();
   for (int c = 0; c < 3; ++c)
   {
@@ -333,7 +354,15 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   {
     p.Camera.WorldFromNdc[i] = static_cast<float>(worldFromNdc->GetElement(i / 4, i % 4));
   }
-  sign(&worldFromNdc->Element[0][0], 16);
+  // Sign what moves rays, not the projection matrix: the renderer resets the clipping range on
+  // every render (tiny changes of near/far would reset the accumulation), and rays do not depend
+  // on it (vtkOSPRayRendererNode compares camera parameters for the same reason).
+  const double cameraKey[14] = { cam->GetPosition()[0], cam->GetPosition()[1],
+    cam->GetPosition()[2], cam->GetFocalPoint()[0], cam->GetFocalPoint()[1],
+    cam->GetFocalPoint()[2], cam->GetViewUp()[0], cam->GetViewUp()[1], cam->GetViewUp()[2],
+    cam->GetViewAngle(), cam->GetParallelScale(), cam->GetParallelProjection() ? 1.0 : 0.0,
+    cam->GetWindowCenter()[0], cam->GetWindowCenter()[1] };
+  signApprox(cameraKey, 14);
   p.Camera.Eye = ToVec3(cam->GetPosition());
   p.Camera.Parallel = cam->GetParallelProjection() ? 1 : 0;
   p.Camera.Width = width;
@@ -397,8 +426,8 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.KeyLight.Direction = ToVec3(lightDir);
   p.KeyLight.Positional = positional;
   p.KeyLight.Radiance = ToVec3(lightRad);
-  sign(lightPos, 3);
-  sign(lightDir, 3);
+  signApprox(lightPos, 3);
+  signApprox(lightDir, 3);
   sign(lightRad, 3);
 
   double env[3];

@@ -41,6 +41,25 @@ struct FrameSettings
   bool EmptySpaceSkipping = true;
 };
 
+/**
+ * Everything that changes the image. Exact values (modification times, sizes, settings, the
+ * opaque-geometry hash) must match exactly; geometric values (camera, light) within a relative
+ * 1e-6, far below a pixel: VTK itself nudges them by rounding (vtkWindowToImageFilter changes
+ * the view angle by ~1e-8 and back), which must not restart the accumulation.
+ */
+struct FrameSignature
+{
+  std::vector<double> Exact;
+  std::vector<double> Approximate;
+
+  bool Matches(const FrameSignature& other) const;
+  void Clear()
+  {
+    this->Exact.clear();
+    this->Approximate.clear();
+  }
+};
+
 class FrameInputs
 {
 public:
@@ -61,7 +80,7 @@ public:
    */
   bool Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image, const FrameSettings& settings,
     int width, int height, const std::vector<float>& zbuffer, TraceParams& params,
-    std::vector<double>& signature, std::string& error);
+    FrameSignature& signature, std::string& error);
 
   /// World-space axis-aligned bounds of the volume (valid after Build()).
   const double* GetWorldBounds() const { return this->WorldBounds; }

@@ -32,7 +32,7 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   ptv::PassBuffers Accumulated;
   ptv::Display Display;
   ptv::TraceParams Params{};
-  std::vector<double> Signature;
+  ptv::FrameSignature Signature;
   std::vector<float> ZBuffer;
   std::vector<float> ShownColor;
   std::vector<float> ShownDepth;
@@ -164,7 +164,7 @@ const char* vtkPathTracedVolumeMapper::GetCudaStatus()
 void vtkPathTracedVolumeMapper::ResetAccumulation()
 {
   this->AccumulatedFrames = 0;
-  this->Internals->Signature.clear();
+  this->Internals->Signature.Clear();
 }
 
 //------------------------------------------------------------------------------
@@ -258,11 +258,9 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   in.ZBuffer.resize(pixels);
-  if (!ren->GetRenderWindow() ||
-    !ren->GetRenderWindow()->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1,
-      in.ZBuffer.data()))
+  if (!ptv::Display::ReadDepth(ren, x0, y0, width, height, in.ZBuffer.data()))
   {
-    in.ZBuffer.clear();
+    in.ZBuffer.clear(); // no opaque-geometry clipping this frame
   }
 
   ptv::FrameSettings settings;
@@ -277,7 +275,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   settings.EnvironmentIntensity = this->EnvironmentIntensity;
   settings.EmptySpaceSkipping = this->EmptySpaceSkipping;
 
-  std::vector<double> signature;
+  ptv::FrameSignature signature;
   if (!in.Inputs.Build(ren, vol, image, settings, width, height, in.ZBuffer, in.Params, signature,
         error))
   {
@@ -285,10 +283,10 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return;
   }
   in.LastError.clear();
-  if (signature != in.Signature)
-  {
-    in.Signature = std::move(signature);
+  if (!signature.Matches(in.Signature)) // compared with the frame that started the accumulation,
+  {                                       // so slow drifts cannot pile up unnoticed
     this->AccumulatedFrames = 0;
+    in.Signature = std::move(signature);
   }
 
   if (this->AccumulatedFrames < this->MaximumAccumulatedFrames)

@@ -31,6 +31,9 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                         help="preset name (default: '<Dataset> Two-Band (paper)')")
     parser.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"),
                         help="image size in pixels (default: 512 512)")
+    parser.add_argument("--background", type=float, nargs=3, default=(0.32, 0.34, 0.43),
+                        metavar=("R", "G", "B"),
+                        help="background = environment light colour (default: ParaView's)")
     parser.add_argument("--azimuth", type=float, default=0.0, help="camera azimuth in degrees")
     parser.add_argument("--elevation", type=float, default=0.0, help="camera elevation in degrees")
     parser.add_argument("--mapper", choices=("pathtraced", "stock"), default="pathtraced",
@@ -80,7 +83,7 @@ def render(args: argparse.Namespace) -> float:
 
     renderer = vtkRenderer()
     renderer.AddVolume(volume)
-    renderer.SetBackground(0.0, 0.0, 0.0)
+    renderer.SetBackground(*args.background)  # also the path tracer's environment light
     camera = renderer.GetActiveCamera()
     # Look at the face: the CT's y axis runs front to back, z runs up.
     camera.SetPosition(0, -1, 0)

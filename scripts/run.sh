@@ -6,6 +6,6 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${PTV_BUILD_DIR:-$ROOT/build}"
 bash "$ROOT/scripts/setup.sh"
 export PYTHONPATH="$BUILD/python${PYTHONPATH:+:$PYTHONPATH}"
-xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24" \
+xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24 -noreset" \
   "$ROOT/.venv/bin/python" "$ROOT/scripts/render.py" \
   --dataset head --output "$ROOT/out/head.png" "$@"

@@ -9,7 +9,9 @@ bash "$ROOT/scripts/setup.sh" --cuda
 cd "$BUILD"
 set +e
 # -n: start the free-display search at a per-process number, so parallel runs never share :99.
-xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24" \
+# -noreset: Xvfb otherwise resets when its last client leaves, and a test opening a window during
+# that reset aborts in XOpenDisplay ("bad X server connection"; seen under load).
+xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24 -noreset" \
   ctest --output-on-failure --timeout 1800 "$@"
 rc=$?
 set -e

@@ -23,6 +23,7 @@
 #include "vtkTestErrorObserver.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
+#include "vtkWindowToImageFilter.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -114,6 +115,13 @@ void TestAccumulation()
   s.Window->Render();
   Check(s.Mapper->GetAccumulatedFrames() == 3, "DisplayPass change keeps the accumulation");
   s.Mapper->SetDisplayPass(nullptr);
+  s.Mapper->SetMaximumAccumulatedFrames(100);
+  s.Window->Render();
+  vtkNew<vtkWindowToImageFilter> grab; // re-renders; VTK nudges the view angle by ~1e-8
+  grab->SetInput(s.Window);
+  grab->Update();
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 6, "a window grab keeps the accumulation");
 
   s.Renderer->GetActiveCamera()->Azimuth(1);
   s.Window->Render();
