@@ -1,0 +1,470 @@
+// vtkPTVBilateralGrid (and its private CPU driver ptv::BilateralGridCpu):
+//  (a) a constant image (constant radiance and albedo, random guides and weights) comes back
+//      within 1e-6, for 1, 2 and 3 levels, clamp on and off;
+//  (b) the output is bit-identical with 1, 2 and 3 threads;
+//  (c) every invalid input is an error event naming the offending value, Apply returns false and
+//      the output is left untouched; the object works again afterwards;
+//  (d) 1x1 and 4097x3 images (with NaN/Inf/negative radiance) give finite output;
+//  (e) repeated Apply calls of one size allocate nothing: the driver's allocation counter stays
+//      put and the output's "Denoised" array (and its memory) is reused.
+// The semantics themselves are checked against the torch reference and a brute-force evaluation
+// of the definitions in Testing/Python/test_bilateral_grid.py.
+#include "ptvBilateralGridCpu.h"
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPTVBilateralGrid.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkTestErrorObserver.h"
+
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace
+{
+int failures = 0;
+
+void Check(bool ok, const std::string& what)
+{
+  if (!ok)
+  {
+    std::cerr << "FAILED: " << what << "\n";
+    ++failures;
+  }
+}
+
+// A W x H x 1 image whose active scalars are a float array with the given values.
+vtkSmartPointer<vtkImageData> MakeImage(
+  int width, int height, int components, const std::vector<float>& values)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(width, height, 1);
+  vtkNew<vtkFloatArray> array;
+  array->SetName("values");
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  std::memcpy(array->GetPointer(0), values.data(), values.size() * sizeof(float));
+  image->GetPointData()->SetScalars(array);
+  return image;
+}
+
+std::vector<float> Uniform(std::mt19937& rng, std::size_t n, float lo, float hi)
+{
+  std::uniform_real_distribution<float> dist(lo, hi);
+  std::vector<float> v(n);
+  for (float& x : v)
+  {
+    x = dist(rng);
+  }
+  return v;
+}
+
+struct Frame
+{
+  int Width = 0;
+  int Height = 0;
+  int Levels = 3;
+  vtkSmartPointer<vtkImageData> Radiance, Albedo, Guides, Weights;
+};
+
+// Random HDR radiance with fireflies, albedo with zeros, guides in [0, 255], weights in [0, 1].
+Frame RandomFrame(int width, int height, int levels, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  std::vector<float> radiance = Uniform(rng, 3 * n, 0.f, 2.f);
+  std::vector<float> albedo = Uniform(rng, 3 * n, 0.f, 1.f);
+  for (std::size_t p = 0; p < n; p += 37)
+  {
+    radiance[3 * p] *= 1000.f;
+    albedo[3 * p + 1] = 0.f;
+  }
+  Frame f;
+  f.Width = width;
+  f.Height = height;
+  f.Levels = levels;
+  f.Radiance = MakeImage(width, height, 3, radiance);
+  f.Albedo = MakeImage(width, height, 3, albedo);
+  f.Guides = MakeImage(width, height, levels, Uniform(rng, levels * n, 0.f, 255.f));
+  if (levels > 1)
+  {
+    f.Weights = MakeImage(width, height, levels - 1, Uniform(rng, (levels - 1) * n, 0.f, 1.f));
+  }
+  return f;
+}
+
+const float* Output(vtkImageData* image)
+{
+  vtkFloatArray* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetArray("Denoised"));
+  return a ? a->GetPointer(0) : nullptr;
+}
+
+bool AllFinite(vtkImageData* image, std::size_t n)
+{
+  const float* out = Output(image);
+  if (!out)
+  {
+    return false;
+  }
+  for (std::size_t i = 0; i < 3 * n; ++i)
+  {
+    if (!std::isfinite(out[i]))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void TestConstantImage()
+{
+  const int width = 53;
+  const int height = 41;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  const float colour[3] = { 0.3f, 0.6f, 0.9f };
+  const float albedoColour[3] = { 0.2f, 0.f, 0.8f };
+  std::vector<float> radiance(3 * n);
+  std::vector<float> albedo(3 * n);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      radiance[3 * p + c] = colour[c];
+      albedo[3 * p + c] = albedoColour[c];
+    }
+  }
+  std::mt19937 rng(7);
+  for (int levels = 1; levels <= 3; ++levels)
+  {
+    for (double clamp : { 8.0, 0.0 })
+    {
+      vtkNew<vtkPTVBilateralGrid> grid;
+      grid->SetNumberOfLevels(levels);
+      grid->SetClamp(clamp);
+      vtkNew<vtkImageData> output;
+      auto guides = MakeImage(width, height, levels, Uniform(rng, levels * n, 0.f, 255.f));
+      auto weights = levels > 1
+        ? MakeImage(width, height, levels - 1, Uniform(rng, (levels - 1) * n, 0.f, 1.f))
+        : nullptr;
+      const bool ok = grid->Apply(MakeImage(width, height, 3, radiance),
+        MakeImage(width, height, 3, albedo), guides, weights, output);
+      const std::string label =
+        "constant image, " + std::to_string(levels) + " levels, clamp " + std::to_string(clamp);
+      Check(ok, label + ": Apply must succeed");
+      const float* out = Output(output);
+      Check(out != nullptr, label + ": \"Denoised\" array");
+      if (!out)
+      {
+        continue;
+      }
+      double worst = 0.0;
+      for (std::size_t i = 0; i < 3 * n; ++i)
+      {
+        worst = std::max(worst, std::fabs(static_cast<double>(out[i]) - radiance[i]));
+      }
+      Check(worst <= 1e-6, label + ": max error " + std::to_string(worst) + " > 1e-6");
+      Check(output->GetPointData()->GetScalars() ==
+          output->GetPointData()->GetArray("Denoised"),
+        label + ": \"Denoised\" must be the active scalars");
+      int dims[3];
+      output->GetDimensions(dims);
+      Check(dims[0] == width && dims[1] == height && dims[2] == 1, label + ": dimensions");
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void TestThreadsBitIdentical()
+{
+  for (int levels : { 1, 3 })
+  {
+    Frame f = RandomFrame(129, 77, levels, 11);
+    const std::size_t n = static_cast<std::size_t>(f.Width) * f.Height;
+    std::vector<float> reference;
+    for (int threads : { 1, 2, 3 })
+    {
+      vtkNew<vtkPTVBilateralGrid> grid;
+      grid->SetNumberOfLevels(levels);
+      grid->SetNumberOfThreads(threads);
+      vtkNew<vtkImageData> output;
+      Check(grid->Apply(f.Radiance, f.Albedo, f.Guides, f.Weights, output),
+        "threads: Apply must succeed");
+      const float* out = Output(output);
+      if (!out)
+      {
+        Check(false, "threads: no output");
+        continue;
+      }
+      if (reference.empty())
+      {
+        reference.assign(out, out + 3 * n);
+        continue;
+      }
+      Check(std::memcmp(reference.data(), out, 3 * n * sizeof(float)) == 0,
+        std::to_string(levels) + " levels: " + std::to_string(threads) +
+          " threads must be bit-identical to 1 thread");
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+struct ErrorCase
+{
+  std::string Label;
+  std::vector<std::string> Needles;
+};
+
+// Apply on @a grid expecting failure with an error naming @a needles and an untouched output.
+void ExpectError(vtkPTVBilateralGrid* grid, vtkTest::ErrorObserver* observer,
+  const ErrorCase& c, vtkImageData* radiance, vtkImageData* albedo, vtkImageData* guides,
+  vtkImageData* weights, vtkImageData* output)
+{
+  int dimsBefore[3] = { -1, -1, -1 };
+  vtkMTimeType mtime = 0;
+  int arrays = -1;
+  if (output)
+  {
+    output->GetDimensions(dimsBefore);
+    mtime = output->GetMTime();
+    arrays = output->GetPointData()->GetNumberOfArrays();
+  }
+  observer->Clear();
+  const bool ok = grid->Apply(radiance, albedo, guides, weights, output);
+  Check(!ok, c.Label + ": Apply must return false");
+  Check(observer->GetError(), c.Label + ": an error must be reported");
+  // The message text only, without VTK's "ERROR: In <file>" line (ctest fails on that).
+  const std::string text = observer->GetErrorMessage();
+  std::string first = text.substr(text.find('\n') + 1);
+  first = first.substr(0, first.find('\n'));
+  for (const std::string& needle : c.Needles)
+  {
+    Check(first.find(needle) != std::string::npos,
+      c.Label + ": the error must mention \"" + needle + "\"; got: " + first);
+  }
+  if (output)
+  {
+    int dims[3];
+    output->GetDimensions(dims);
+    Check(dims[0] == dimsBefore[0] && dims[1] == dimsBefore[1] && dims[2] == dimsBefore[2] &&
+        output->GetMTime() == mtime && output->GetPointData()->GetNumberOfArrays() == arrays,
+      c.Label + ": the output must be untouched");
+  }
+  std::cout << c.Label << ": reported as expected: " << first << "\n";
+  observer->Clear();
+}
+
+void TestErrors()
+{
+  vtkNew<vtkPTVBilateralGrid> grid;
+  vtkNew<vtkTest::ErrorObserver> observer;
+  grid->AddObserver(vtkCommand::ErrorEvent, observer);
+  grid->AddObserver(vtkCommand::WarningEvent, observer);
+
+  const int w = 12;
+  const int h = 7;
+  Frame f = RandomFrame(w, h, 3, 3);
+  // A previous result in the output, so "untouched" is meaningful.
+  vtkNew<vtkImageData> output;
+  Check(grid->Apply(f.Radiance, f.Albedo, f.Guides, f.Weights, output), "errors: first Apply");
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+
+  ExpectError(grid, observer, { "null radiance", { "radiance is nullptr" } }, nullptr, f.Albedo,
+    f.Guides, f.Weights, output);
+  ExpectError(grid, observer, { "null albedo", { "albedo is nullptr" } }, f.Radiance, nullptr,
+    f.Guides, f.Weights, output);
+  ExpectError(grid, observer, { "null guides", { "guides is nullptr" } }, f.Radiance, f.Albedo,
+    nullptr, f.Weights, output);
+  ExpectError(grid, observer, { "null weights", { "weights is nullptr", "NumberOfLevels 3" } },
+    f.Radiance, f.Albedo, f.Guides, nullptr, output);
+  ExpectError(grid, observer, { "null output", { "output is nullptr" } }, f.Radiance, f.Albedo,
+    f.Guides, f.Weights, nullptr);
+  ExpectError(grid, observer, { "output is an input", { "output must be a separate image" } },
+    f.Radiance, f.Albedo, f.Guides, f.Weights, f.Radiance);
+
+  vtkNew<vtkImageData> empty;
+  ExpectError(grid, observer, { "zero-size radiance", { "radiance", "zero-size", "0 x 0 x 0" } },
+    empty, f.Albedo, f.Guides, f.Weights, output);
+  auto emptyWithArray = vtkSmartPointer<vtkImageData>::New();
+  emptyWithArray->SetExtent(0, -1, 0, -1, 0, 0);
+  ExpectError(grid, observer, { "zero-size albedo", { "albedo", "zero-size" } }, f.Radiance,
+    emptyWithArray, f.Guides, f.Weights, output);
+
+  auto volume = vtkSmartPointer<vtkImageData>::New();
+  volume->SetDimensions(w, h, 2);
+  volume->AllocateScalars(VTK_FLOAT, 3);
+  ExpectError(grid, observer, { "3D radiance", { "radiance", "2D", "12 x 7 x 2" } }, volume,
+    f.Albedo, f.Guides, f.Weights, output);
+
+  auto wider = MakeImage(w + 1, h, 3, std::vector<float>(3 * (w + 1) * h, 0.5f));
+  ExpectError(grid, observer, { "albedo size", { "albedo", "13 x 7 x 1", "12 x 7 x 1" } },
+    f.Radiance, wider, f.Guides, f.Weights, output);
+  auto taller = MakeImage(w, h + 2, 2, std::vector<float>(2 * w * (h + 2), 0.5f));
+  ExpectError(grid, observer, { "weights size", { "weights", "12 x 9 x 1" } }, f.Radiance,
+    f.Albedo, f.Guides, taller, output);
+
+  auto rgba = MakeImage(w, h, 4, std::vector<float>(4 * n, 0.5f));
+  ExpectError(grid, observer, { "radiance components", { "radiance", "4 components", "3" } },
+    rgba, f.Albedo, f.Guides, f.Weights, output);
+  auto twoGuides = MakeImage(w, h, 2, std::vector<float>(2 * n, 10.f));
+  ExpectError(grid, observer, { "guide components", { "guides", "2 components", "expected 3" } },
+    f.Radiance, f.Albedo, twoGuides, f.Weights, output);
+  auto oneWeight = MakeImage(w, h, 1, std::vector<float>(n, 0.5f));
+  ExpectError(grid, observer,
+    { "weight components", { "weights", "1 components", "expected 2" } }, f.Radiance, f.Albedo,
+    f.Guides, oneWeight, output);
+
+  auto doubles = vtkSmartPointer<vtkImageData>::New();
+  doubles->SetDimensions(w, h, 1);
+  doubles->AllocateScalars(VTK_DOUBLE, 3);
+  doubles->GetPointData()->GetScalars()->SetName("rgb64");
+  ExpectError(grid, observer, { "double albedo", { "albedo", "rgb64", "double", "vtkFloatArray" } },
+    f.Radiance, doubles, f.Guides, f.Weights, output);
+
+  auto noScalars = vtkSmartPointer<vtkImageData>::New();
+  noScalars->SetDimensions(w, h, 1);
+  ExpectError(grid, observer, { "no scalars", { "guides", "no active point scalars" } },
+    f.Radiance, f.Albedo, noScalars, f.Weights, output);
+
+  auto shortArray = vtkSmartPointer<vtkImageData>::New();
+  shortArray->SetDimensions(w, h, 1);
+  vtkNew<vtkFloatArray> few;
+  few->SetNumberOfComponents(3);
+  few->SetNumberOfTuples(5);
+  shortArray->GetPointData()->SetScalars(few);
+  ExpectError(grid, observer, { "short array", { "radiance", "5 tuples", "expected 84" } },
+    shortArray, f.Albedo, f.Guides, f.Weights, output);
+
+  // Invalid level indices of the per-level settings.
+  observer->Clear();
+  grid->SetSpatialStep(3, 4);
+  Check(observer->GetError() &&
+      observer->GetErrorMessage().find("level 3 is out of range") != std::string::npos,
+    "SetSpatialStep(3): error naming the level");
+  observer->Clear();
+  Check(grid->GetRangeStep(-1) == 0 && observer->GetError(), "GetRangeStep(-1): error, 0");
+  observer->Clear();
+  grid->SetRangeStep(0, 0);
+  Check(grid->GetRangeStep(0) == 1 && !observer->GetError(), "SetRangeStep clamps to 1");
+  grid->SetSpatialStep(0, 100000);
+  Check(grid->GetSpatialStep(0) == 256, "SetSpatialStep clamps to 256");
+  grid->SetSpatialStep(0, 4);
+  grid->SetRangeStep(0, 4);
+
+  // One level: weights may be nullptr; the object works again after the errors.
+  grid->SetNumberOfLevels(1);
+  auto oneGuide = MakeImage(w, h, 1, std::vector<float>(n, 100.f));
+  observer->Clear();
+  Check(grid->Apply(f.Radiance, f.Albedo, oneGuide, nullptr, output) && !observer->GetError(),
+    "one level without weights must succeed after the errors");
+  Check(AllFinite(output, n), "one level without weights: finite output");
+}
+
+//------------------------------------------------------------------------------
+void TestOddSizesFinite()
+{
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (auto size : { std::pair<int, int>(1, 1), std::pair<int, int>(4097, 3),
+         std::pair<int, int>(3, 4097) })
+  {
+    for (int levels : { 1, 3 })
+    {
+      Frame f = RandomFrame(size.first, size.second, levels, 5);
+      const std::size_t n = static_cast<std::size_t>(size.first) * size.second;
+      float* radiance = vtkFloatArray::SafeDownCast(f.Radiance->GetPointData()->GetScalars())
+                          ->GetPointer(0);
+      const float bad[] = { nan, inf, -inf, -1.f, 3e38f };
+      for (std::size_t i = 0; i < 3 * n; i += 7)
+      {
+        radiance[i] = bad[(i / 7) % 5];
+      }
+      vtkNew<vtkPTVBilateralGrid> grid;
+      grid->SetNumberOfLevels(levels);
+      grid->SetNumberOfThreads(2);
+      vtkNew<vtkImageData> output;
+      const std::string label = std::to_string(size.first) + "x" +
+        std::to_string(size.second) + ", " + std::to_string(levels) + " levels";
+      Check(grid->Apply(f.Radiance, f.Albedo, f.Guides, f.Weights, output),
+        label + ": Apply must succeed");
+      Check(AllFinite(output, n), label + ": output must be finite");
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void TestNoAllocationGrowth()
+{
+  // The driver: buffers are (re)allocated on the first frame and on size changes only.
+  Frame f = RandomFrame(200, 150, 3, 9);
+  auto data = [](vtkImageData* image)
+  { return vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars())->GetPointer(0); };
+  ptv::BilateralGridCpu cpu;
+  ptv::BilateralGridSettings settings;
+  settings.Threads = 2;
+  std::vector<float> out(3 * 200 * 150);
+  cpu.Apply(settings, 200, 150, data(f.Radiance), data(f.Albedo), data(f.Guides),
+    data(f.Weights), out.data());
+  const std::size_t first = cpu.GetAllocationCount();
+  Check(first > 0, "driver: the first frame allocates");
+  for (int i = 0; i < 5; ++i)
+  {
+    cpu.Apply(settings, 200, 150, data(f.Radiance), data(f.Albedo), data(f.Guides),
+      data(f.Weights), out.data());
+  }
+  Check(cpu.GetAllocationCount() == first,
+    "driver: repeated frames of one size must not allocate (" + std::to_string(first) + " -> " +
+      std::to_string(cpu.GetAllocationCount()) + ")");
+  Frame small = RandomFrame(100, 150, 3, 9);
+  cpu.Apply(settings, 100, 150, data(small.Radiance), data(small.Albedo), data(small.Guides),
+    data(small.Weights), out.data());
+  const std::size_t resized = cpu.GetAllocationCount();
+  Check(resized > first, "driver: a new size reallocates");
+  cpu.Apply(settings, 100, 150, data(small.Radiance), data(small.Albedo), data(small.Guides),
+    data(small.Weights), out.data());
+  Check(cpu.GetAllocationCount() == resized, "driver: stable again after a size change");
+
+  // The VTK class: the output's "Denoised" array and its memory are reused.
+  vtkNew<vtkPTVBilateralGrid> grid;
+  vtkNew<vtkImageData> output;
+  Check(grid->Apply(f.Radiance, f.Albedo, f.Guides, f.Weights, output), "reuse: first Apply");
+  vtkDataArray* array = output->GetPointData()->GetArray("Denoised");
+  const float* memory = Output(output);
+  vtkMTimeType mtime = output->GetMTime();
+  for (int i = 0; i < 3; ++i)
+  {
+    Check(grid->Apply(f.Radiance, f.Albedo, f.Guides, f.Weights, output), "reuse: Apply");
+  }
+  Check(output->GetPointData()->GetArray("Denoised") == array && Output(output) == memory,
+    "reuse: the \"Denoised\" array must be reused for the same size");
+  Check(output->GetMTime() > mtime, "reuse: the output must be marked modified");
+  Check(output->GetPointData()->GetNumberOfArrays() == 1, "reuse: one array in the output");
+  std::cout << "timings 200x150, 3 levels (ms): demodulate " << grid->GetLastDemodulateTime()
+            << ", splat " << grid->GetLastSplatTime() << ", slice " << grid->GetLastSliceTime()
+            << "\n";
+}
+}
+
+int TestPTVBilateralGrid(int, char*[])
+{
+  TestConstantImage();
+  TestThreadsBitIdentical();
+  TestErrors();
+  TestOddSizesFinite();
+  TestNoAllocationGrowth();
+  if (failures)
+  {
+    std::cerr << failures << " check(s) failed\n";
+    return EXIT_FAILURE;
+  }
+  std::cout << "all checks passed\n";
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,1 @@
+"""Training code of the PathTracedVolume denoiser (GuideNet, bilateral-grid reference)."""
