@@ -1,0 +1,449 @@
+#include "ptvGuideNetSession.h"
+
+#include <onnxruntime_cxx_api.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace ptv
+{
+namespace
+{
+const char* const FormatKey = "ptv.format";
+const char* const ChannelsKey = "ptv.input_channels";
+const char* const LevelsKey = "ptv.levels";
+const char* const GuideScaleKey = "ptv.guide_scale";
+const char* const FormatValue = "guidenet-v1";
+const char* const CpuProvider = "CPUExecutionProvider";
+const char* const CudaProvider = "CUDAExecutionProvider";
+
+std::string Trim(const std::string& s)
+{
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos)
+  {
+    return std::string();
+  }
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> Split(const std::string& s, char sep)
+{
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(s);
+  while (std::getline(in, part, sep))
+  {
+    parts.push_back(Trim(part));
+  }
+  if (!s.empty() && s.back() == sep)
+  {
+    parts.emplace_back(); // "a,b," has an empty last item
+  }
+  return parts;
+}
+
+/// Strictly parse a positive int; false on anything else.
+bool ParsePositive(const std::string& s, int& value)
+{
+  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 9)
+  {
+    return false;
+  }
+  value = std::atoi(s.c_str());
+  return value > 0;
+}
+
+std::string ShapeString(const std::vector<int64_t>& shape)
+{
+  std::string s = "[";
+  for (size_t i = 0; i < shape.size(); ++i)
+  {
+    s += (i ? ", " : "") + (shape[i] < 0 ? std::string("?") : std::to_string(shape[i]));
+  }
+  return s + "]";
+}
+
+std::string Join(const std::vector<std::string>& items, const char* sep)
+{
+  std::string s;
+  for (size_t i = 0; i < items.size(); ++i)
+  {
+    s += (i ? sep : "") + items[i];
+  }
+  return s;
+}
+
+/// Name and shape of one float tensor input/output; false (with a message) otherwise.
+bool DescribeTensor(const Ort::TypeInfo& info, const char* what, std::vector<int64_t>& shape,
+  std::vector<std::string>& problems)
+{
+  if (info.GetONNXType() != ONNX_TYPE_TENSOR)
+  {
+    problems.push_back(std::string(what) + " is not a tensor");
+    return false;
+  }
+  auto tensor = info.GetTensorTypeAndShapeInfo();
+  shape = tensor.GetShape();
+  if (tensor.GetElementType() != ONNX_TENSOR_ELEMENT_DATA_TYPE_FLOAT)
+  {
+    problems.push_back(std::string(what) + " is not float32 (ONNX element type " +
+      std::to_string(static_cast<int>(tensor.GetElementType())) + ")");
+    return false;
+  }
+  return true;
+}
+}
+
+struct GuideNetSession::Internals
+{
+  Ort::Env Env{ ORT_LOGGING_LEVEL_ERROR, "ptv-guidenet" };
+  Ort::Session Session{ nullptr };
+  Ort::MemoryInfo Memory{ Ort::MemoryInfo::CreateCpu(OrtDeviceAllocator, OrtMemTypeDefault) };
+  std::string InputName;
+  std::string OutputName;
+  std::vector<int64_t> InputShape;  // as declared by the model (-1 = dynamic)
+  std::vector<int64_t> OutputShape; // idem
+  std::array<int64_t, 4> RunInputShape{};
+  std::array<int64_t, 4> RunOutputShape{};
+};
+
+//------------------------------------------------------------------------------
+GuideNetSession::GuideNetSession() = default;
+
+//------------------------------------------------------------------------------
+GuideNetSession::~GuideNetSession() = default;
+
+//------------------------------------------------------------------------------
+std::string GuideNetSession::GetRuntimeVersion()
+{
+  const char* v = OrtGetApiBase()->GetVersionString();
+  return v ? v : "";
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::IsLoaded() const
+{
+  return this->Impl && this->Impl->Session;
+}
+
+//------------------------------------------------------------------------------
+void GuideNetSession::Unload()
+{
+  if (this->Impl)
+  {
+    this->Impl->Session = Ort::Session(nullptr);
+  }
+  this->Path.clear();
+  this->Provider.clear();
+  this->Channels.clear();
+  this->Levels.clear();
+  this->GuideScale = 255.0;
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::Load(const std::string& path, std::string& error)
+{
+  this->Unload();
+  error.clear();
+  const std::string prefix = (path.empty() ? std::string("(no model file)") : path) + ": ";
+  if (path.empty())
+  {
+    error = "no model file given";
+    return false;
+  }
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe)
+    {
+      error = prefix + "cannot open the model file (missing or unreadable)";
+      return false;
+    }
+  }
+  if (!OrtGetApiBase()->GetApi(ORT_API_VERSION))
+  {
+    error = prefix + "the ONNX Runtime library (" + GetRuntimeVersion() +
+      ") is older than the headers this module was built with (API " +
+      std::to_string(ORT_API_VERSION) + ")";
+    return false;
+  }
+
+  std::vector<std::string> problems;
+  std::vector<std::string> channels;
+  std::vector<std::pair<int, int>> levels;
+  double guideScale = 255.0;
+  std::string provider = CpuProvider;
+  try
+  {
+    if (!this->Impl)
+    {
+      this->Impl.reset(new Internals);
+    }
+    Internals& in = *this->Impl;
+
+    auto makeOptions = [this]() {
+      Ort::SessionOptions options;
+      options.SetIntraOpNumThreads(this->NumberOfThreads);
+      options.SetInterOpNumThreads(1);
+      options.SetExecutionMode(ExecutionMode::ORT_SEQUENTIAL);
+      options.SetGraphOptimizationLevel(GraphOptimizationLevel::ORT_ENABLE_ALL);
+      // Idle intra-op threads would otherwise busy-wait after each run and steal the cores of
+      // the path tracer (vtkSMPTools) that runs between two GuideNet calls.
+      options.AddConfigEntry("session.intra_op.allow_spinning", "0");
+      return options;
+    };
+    bool opened = false;
+    if (this->AllowCuda)
+    {
+      const auto available = Ort::GetAvailableProviders();
+      if (std::find(available.begin(), available.end(), CudaProvider) != available.end())
+      {
+        // Listed does not mean usable (CUDA/cuDNN libraries, a device): on any failure the
+        // session is opened again on the CPU below; a broken model fails there as well.
+        try
+        {
+          Ort::SessionOptions options = makeOptions();
+          OrtCUDAProviderOptions cuda;
+          options.AppendExecutionProvider_CUDA(cuda);
+          in.Session = Ort::Session(in.Env, path.c_str(), options);
+          provider = CudaProvider;
+          opened = true;
+        }
+        catch (const Ort::Exception&)
+        {
+          provider = CpuProvider;
+        }
+      }
+    }
+    if (!opened)
+    {
+      in.Session = Ort::Session(in.Env, path.c_str(), makeOptions());
+    }
+
+    // Metadata.
+    Ort::AllocatorWithDefaultOptions allocator;
+    Ort::ModelMetadata metadata = in.Session.GetModelMetadata();
+    auto lookup = [&](const char* key, std::string& value) {
+      Ort::AllocatedStringPtr v = metadata.LookupCustomMetadataMapAllocated(key, allocator);
+      if (!v)
+      {
+        return false;
+      }
+      value = v.get();
+      return true;
+    };
+    std::string value;
+    if (!lookup(FormatKey, value))
+    {
+      problems.push_back(std::string("metadata ") + FormatKey + " is missing (expected \"" +
+        FormatValue + "\"; export with Training/ptv_training/export_onnx.py)");
+    }
+    else if (value != FormatValue)
+    {
+      problems.push_back(std::string("metadata ") + FormatKey + " is \"" + value +
+        "\", expected \"" + FormatValue + "\"");
+    }
+    bool haveChannels = false;
+    if (!lookup(ChannelsKey, value))
+    {
+      problems.push_back(std::string("metadata ") + ChannelsKey + " is missing");
+    }
+    else
+    {
+      channels = Split(value, ',');
+      haveChannels = !channels.empty() &&
+        std::find(channels.begin(), channels.end(), std::string()) == channels.end();
+      if (!haveChannels)
+      {
+        problems.push_back(std::string("metadata ") + ChannelsKey + " \"" + value +
+          "\" is not a comma-separated list of non-empty channel names");
+      }
+    }
+    bool haveLevels = false;
+    if (!lookup(LevelsKey, value))
+    {
+      problems.push_back(std::string("metadata ") + LevelsKey + " is missing");
+    }
+    else
+    {
+      haveLevels = true;
+      for (const auto& item : Split(value, ','))
+      {
+        const auto colon = item.find(':');
+        int ss = 0;
+        int sr = 0;
+        if (colon == std::string::npos || !ParsePositive(Trim(item.substr(0, colon)), ss) ||
+          !ParsePositive(Trim(item.substr(colon + 1)), sr))
+        {
+          haveLevels = false;
+          break;
+        }
+        levels.emplace_back(ss, sr);
+      }
+      if (!haveLevels || levels.empty())
+      {
+        haveLevels = false;
+        problems.push_back(std::string("metadata ") + LevelsKey + " \"" + value +
+          "\" is not a list like \"4:4,8:8,16:16\" (spatial step:range step per level)");
+      }
+    }
+    if (lookup(GuideScaleKey, value))
+    {
+      char* end = nullptr;
+      errno = 0;
+      guideScale = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno || !(guideScale > 0.0))
+      {
+        problems.push_back(std::string("metadata ") + GuideScaleKey + " \"" + value +
+          "\" is not a positive number");
+      }
+    }
+
+    // Input: exactly one float tensor [1, C, H, W].
+    const size_t nIn = in.Session.GetInputCount();
+    const size_t nOut = in.Session.GetOutputCount();
+    if (nIn != 1)
+    {
+      problems.push_back("model has " + std::to_string(nIn) + " inputs, expected 1");
+    }
+    else
+    {
+      in.InputName = in.Session.GetInputNameAllocated(0, allocator).get();
+      const std::string what = "input \"" + in.InputName + "\"";
+      if (DescribeTensor(in.Session.GetInputTypeInfo(0), what.c_str(), in.InputShape, problems))
+      {
+        const auto& s = in.InputShape;
+        if (s.size() != 4)
+        {
+          problems.push_back(what + " has rank " + std::to_string(s.size()) + " " +
+            ShapeString(s) + ", expected 4 ([1, C, H, W])");
+        }
+        else
+        {
+          if (s[0] > 1)
+          {
+            problems.push_back(what + " has batch size " + std::to_string(s[0]) +
+              ", expected 1 or dynamic");
+          }
+          if (s[1] < 0)
+          {
+            problems.push_back(what + " has a dynamic channel dimension " + ShapeString(s));
+          }
+          else if (haveChannels && s[1] != static_cast<int64_t>(channels.size()))
+          {
+            problems.push_back("model declares " + std::to_string(s[1]) +
+              " input channels but " + ChannelsKey + " lists " +
+              std::to_string(channels.size()) + ": " + Join(channels, ","));
+          }
+        }
+      }
+    }
+    // Output: exactly one float tensor [1, 2L - 1, H, W].
+    if (nOut != 1)
+    {
+      problems.push_back("model has " + std::to_string(nOut) + " outputs, expected 1");
+    }
+    else
+    {
+      in.OutputName = in.Session.GetOutputNameAllocated(0, allocator).get();
+      const std::string what = "output \"" + in.OutputName + "\"";
+      if (DescribeTensor(in.Session.GetOutputTypeInfo(0), what.c_str(), in.OutputShape, problems))
+      {
+        const auto& s = in.OutputShape;
+        const int64_t expected = 2 * static_cast<int64_t>(levels.size()) - 1;
+        if (s.size() != 4)
+        {
+          problems.push_back(what + " has rank " + std::to_string(s.size()) + " " +
+            ShapeString(s) + ", expected 4 ([1, 2L-1, H, W])");
+        }
+        else if (s[1] < 0)
+        {
+          problems.push_back(what + " has a dynamic channel dimension " + ShapeString(s));
+        }
+        else if (haveLevels && s[1] != expected)
+        {
+          problems.push_back("model outputs " + std::to_string(s[1]) + " channels but " +
+            LevelsKey + " lists " + std::to_string(levels.size()) + " levels (expected 2L - 1 = " +
+            std::to_string(expected) + ": guides, then blend weights)");
+        }
+      }
+    }
+  }
+  catch (const Ort::Exception& e)
+  {
+    problems.push_back(std::string("ONNX Runtime could not load the model: ") + e.what());
+  }
+  catch (const std::exception& e)
+  {
+    problems.push_back(std::string("could not load the model: ") + e.what());
+  }
+
+  if (!problems.empty())
+  {
+    error = prefix + Join(problems, "; ");
+    this->Unload();
+    return false;
+  }
+  this->Path = path;
+  this->Provider = provider;
+  this->Channels = std::move(channels);
+  this->Levels = std::move(levels);
+  this->GuideScale = guideScale;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::Run(
+  const float* features, int height, int width, float* out, std::string& error)
+{
+  error.clear();
+  if (!this->IsLoaded())
+  {
+    error = "no GuideNet model loaded";
+    return false;
+  }
+  if (!features || !out || height <= 0 || width <= 0)
+  {
+    error = "empty input (" + std::to_string(width) + " x " + std::to_string(height) + ")";
+    return false;
+  }
+  Internals& in = *this->Impl;
+  const int64_t c = this->GetNumberOfInputChannels();
+  const int64_t o = this->GetNumberOfOutputs();
+  const int64_t h = height;
+  const int64_t w = width;
+  for (const auto* shape : { &in.InputShape, &in.OutputShape })
+  {
+    if (((*shape)[2] >= 0 && (*shape)[2] != h) || ((*shape)[3] >= 0 && (*shape)[3] != w))
+    {
+      error = this->Path + ": the model has a fixed size " + ShapeString(*shape) +
+        ", the input is " + std::to_string(width) + " x " + std::to_string(height);
+      return false;
+    }
+  }
+  in.RunInputShape = { 1, c, h, w };
+  in.RunOutputShape = { 1, o, h, w };
+  try
+  {
+    // ORT never writes an input tensor; the C API just has no const overload.
+    Ort::Value input = Ort::Value::CreateTensor<float>(in.Memory, const_cast<float*>(features),
+      static_cast<size_t>(c * h * w), in.RunInputShape.data(), in.RunInputShape.size());
+    Ort::Value output = Ort::Value::CreateTensor<float>(in.Memory, out,
+      static_cast<size_t>(o * h * w), in.RunOutputShape.data(), in.RunOutputShape.size());
+    const char* inputNames[] = { in.InputName.c_str() };
+    const char* outputNames[] = { in.OutputName.c_str() };
+    in.Session.Run(Ort::RunOptions{ nullptr }, inputNames, &input, 1, outputNames, &output, 1);
+  }
+  catch (const Ort::Exception& e)
+  {
+    error = this->Path + ": ONNX Runtime failed to run the model: " + e.what();
+    return false;
+  }
+  return true;
+}
+}

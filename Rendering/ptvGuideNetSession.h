@@ -1,0 +1,84 @@
+/**
+ * @file ptvGuideNetSession.h
+ * @brief Private: one GuideNet ONNX model loaded in ONNX Runtime (CPU, or CUDA when the runtime
+ *        offers it), validated against its "ptv.*" metadata, run on planar float buffers.
+ *
+ * The model contract ("guidenet-v1", written by Training/ptv_training/export_onnx.py):
+ *  - one float input, rank 4, [1, C, H, W] (H and W may be dynamic), C = number of names in the
+ *    comma-separated metadata "ptv.input_channels";
+ *  - one float output, rank 4, [1, 2L - 1, H, W], L = number of "ss:sr" pairs in "ptv.levels"
+ *    (first L channels are guides in [0, 1], then L - 1 blend weights);
+ *  - metadata "ptv.format" = "guidenet-v1"; optional "ptv.guide_scale" (default 255).
+ *
+ * No ONNX Runtime type appears here: the Ort:: objects live in the .cxx (PIMPL), so this header
+ * may be included by code that does not see the ORT include folder.
+ */
+#ifndef ptvGuideNetSession_h
+#define ptvGuideNetSession_h
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ptv
+{
+class GuideNetSession
+{
+public:
+  GuideNetSession();
+  ~GuideNetSession();
+  GuideNetSession(const GuideNetSession&) = delete;
+  GuideNetSession& operator=(const GuideNetSession&) = delete;
+
+  /// Intra-op threads for the next Load(); 0 = ONNX Runtime's default (one per physical core).
+  void SetNumberOfThreads(int n) { this->NumberOfThreads = n < 0 ? 0 : n; }
+  int GetNumberOfThreads() const { return this->NumberOfThreads; }
+
+  /// Also try the CUDA execution provider when ORT lists it (default true).
+  void SetAllowCuda(bool allow) { this->AllowCuda = allow; }
+
+  /**
+   * Open and validate @a path. On failure returns false, fills @a error with every problem found
+   * (prefixed by the file name) and leaves the session unloaded.
+   */
+  bool Load(const std::string& path, std::string& error);
+
+  /// Drop the loaded model.
+  void Unload();
+
+  bool IsLoaded() const;
+
+  /**
+   * Run on @a features (C x H x W, planar, row-major) into @a out ((2L - 1) x H x W). Both buffers
+   * belong to the caller; ORT reads/writes them in place (no copies).
+   */
+  bool Run(const float* features, int height, int width, float* out, std::string& error);
+
+  int GetNumberOfInputChannels() const { return static_cast<int>(this->Channels.size()); }
+  const std::vector<std::string>& GetInputChannels() const { return this->Channels; }
+  int GetNumberOfLevels() const { return static_cast<int>(this->Levels.size()); }
+  int GetNumberOfOutputs() const { return 2 * this->GetNumberOfLevels() - 1; }
+  /// (spatial step ss, range step sr) per level, finest first.
+  const std::vector<std::pair<int, int>>& GetLevels() const { return this->Levels; }
+  double GetGuideScale() const { return this->GuideScale; }
+  /// "CPUExecutionProvider" or "CUDAExecutionProvider"; empty when nothing is loaded.
+  const std::string& GetExecutionProvider() const { return this->Provider; }
+  const std::string& GetPath() const { return this->Path; }
+  /// "1.21.1" style version of the loaded ONNX Runtime library.
+  static std::string GetRuntimeVersion();
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+  int NumberOfThreads = 0;
+  bool AllowCuda = true;
+  std::string Path;
+  std::string Provider;
+  std::vector<std::string> Channels;
+  std::vector<std::pair<int, int>> Levels;
+  double GuideScale = 255.0;
+};
+}
+
+#endif

@@ -1,0 +1,517 @@
+"""GuideNet: the torch network (Training/ptv_training/guidenet.py), the feature channels
+(features.py), the ONNX export (export_onnx.py) and the C++ runner vtkPTVGuideNet (ONNX Runtime
+behind a PIMPL) against torch, plus the C++ side's handling of bad models and bad inputs.
+
+The C++ tests need the built package on PYTHONPATH (ctest sets it); VTK errors they provoke are
+observed (ErrorEvent) so that nothing reaches the output window."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import List
+
+import numpy as np
+import pytest
+
+REPO = Path(os.environ.get("PTV_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+TRAINING = REPO / "Training"
+if str(TRAINING) not in sys.path:
+    sys.path.append(str(TRAINING))
+
+import torch  # noqa: E402
+
+from ptv_training import features as F  # noqa: E402
+from ptv_training.export_onnx import export  # noqa: E402
+from ptv_training.guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
+
+SIZES = [(37, 23), (64, 48)]  # (W, H), odd sizes on purpose
+TOL = 1e-5
+
+
+# --- helpers -------------------------------------------------------------------------------------
+def random_net(in_channels: int, seed: int, **kw) -> GuideNet:
+    torch.manual_seed(seed)
+    net = GuideNet(in_channels, **kw)
+    # Default init keeps pre-activations small; widen them so that the sigmoid is exercised.
+    with torch.no_grad():
+        for p in net.parameters():
+            p.mul_(3.0)
+    return net.eval()
+
+
+def torch_forward(net: GuideNet, feats: np.ndarray) -> np.ndarray:
+    with torch.no_grad():
+        return net(torch.from_numpy(feats)[None]).numpy()[0]
+
+
+def random_features(c: int, h: int, w: int, seed: int) -> np.ndarray:
+    return np.random.default_rng(seed).random((c, h, w), dtype=np.float32)
+
+
+@pytest.fixture(scope="module")
+def ptv():
+    return pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+
+
+def observe(obj) -> List[str]:
+    """Collect the object's error and warning messages (keeps them off the output window)."""
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+
+    messages: List[str] = []
+
+    @calldata_type(VTK_STRING)
+    def on_message(caller, event, calldata):
+        messages.append(f"{event}: {calldata}")
+
+    obj.AddObserver("ErrorEvent", on_message)
+    obj.AddObserver("WarningEvent", on_message)
+    return messages
+
+
+def to_image(feats: np.ndarray, name: str = "Features"):
+    """(C, H, W) -> W x H x 1 vtkImageData with a C-component float point array."""
+    from vtkmodules.util import numpy_support
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    c, h, w = feats.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    image.SetSpacing(0.5, 2.0, 1.0)
+    array = numpy_support.numpy_to_vtk(
+        np.ascontiguousarray(feats.transpose(1, 2, 0).reshape(h * w, c)), deep=True)
+    array.SetName(name)
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def from_image(image) -> np.ndarray:
+    """Output image's "GuidesWeights" -> (2L - 1, H, W)."""
+    from vtkmodules.util import numpy_support
+
+    w, h, _ = image.GetDimensions()
+    array = image.GetPointData().GetArray("GuidesWeights")
+    assert array is not None
+    a = numpy_support.vtk_to_numpy(array)
+    return a.reshape(h, w, -1).transpose(2, 0, 1)
+
+
+# --- network -------------------------------------------------------------------------------------
+def test_original_config_has_7525_parameters() -> None:
+    net = GuideNet(10)
+    assert count_parameters(net) == 7525  # (10*25*20 + 20) + (20*25*5 + 5)
+    assert macs_per_pixel(net) == 7500
+    assert net.out_channels == 5
+    assert count_parameters(GuideNet(10, hidden=0)) == 10 * 25 * 5 + 5
+    assert count_parameters(GuideNet(14, hidden=8, kernel=3)) == 14 * 9 * 8 + 8 + 8 * 9 * 5 + 5
+
+
+@pytest.mark.parametrize("hidden", [20, 0])
+def test_forward_same_size_in_unit_range(hidden: int) -> None:
+    net = random_net(10, 0, hidden=hidden)
+    out = net(torch.rand(2, 10, 23, 37))
+    assert out.shape == (2, 5, 23, 37)
+    assert float(out.min()) >= 0.0 and float(out.max()) <= 1.0
+    guides, weights = net.split(out)
+    assert guides.shape[1] == 3 and weights.shape[1] == 2
+
+
+def test_bad_network_arguments() -> None:
+    for kw in ({"kernel": 4}, {"hidden": -1}, {"levels": 0}):
+        with pytest.raises(ValueError):
+            GuideNet(10, **kw)
+
+
+# --- features ------------------------------------------------------------------------------------
+def synthetic_passes(h: int, w: int, seed: int, far: float = 10.0):
+    """Passes like the mapper's: about a third of the pixels miss (depth = far, zeros)."""
+    rng = np.random.default_rng(seed)
+    hit = rng.random((h, w)) > 0.35
+    hit[0, 0] = True
+    hit[0, 1] = False
+    scatter = hit & (rng.random((h, w)) > 0.3)
+    scatter[0, 0] = True
+
+    def unit(n):
+        v = rng.normal(size=(h, w, 3))
+        return (v / np.linalg.norm(v, axis=2, keepdims=True)).astype(np.float32)
+
+    def where(mask, a, miss):
+        m = mask[:, :, None] if a.ndim == 3 else mask
+        return np.where(m, a, np.float32(miss)).astype(np.float32)
+
+    passes = {
+        "Radiance": where(scatter, rng.normal(0.5, 2.0, (h, w, 3)).astype(np.float32), 0.0),
+        "Alpha": scatter.astype(np.float32),
+        "Albedo": where(hit, rng.uniform(-0.1, 1.2, (h, w, 3)).astype(np.float32), 0.0),
+        "Depth": where(hit, rng.uniform(2.0, 5.0, (h, w)).astype(np.float32), far)[:, :, None],
+        "Position": where(hit, rng.uniform(-3, 7, (h, w, 3)).astype(np.float32), 0.0),
+        "Normal": where(hit, unit(hit), 0.0),
+        "ScatterDepth": where(scatter, rng.uniform(2.5, 6.0, (h, w)).astype(np.float32), far),
+        "ScatterPosition": where(scatter, rng.uniform(-2, 2, (h, w, 3)).astype(np.float32), 0),
+        "ScatterNormal": where(scatter, unit(scatter), 0.0),
+    }
+    return passes, hit, scatter
+
+
+def test_presets_and_channel_names() -> None:
+    assert len(F.COLOR_ONLY) == 3
+    assert len(F.PAPER_10) == 10
+    assert len(F.VOLUME_FEATURES) == 14
+    assert F.PAPER_10[:3] == ["color.r", "color.g", "color.b"]
+    assert F.PAPER_10[-1] == "depth"
+    assert F.VOLUME_FEATURES[:10] == F.PAPER_10
+    assert F.resolve_channels("PAPER_10") == F.PAPER_10
+    assert F.resolve_channels("color,depth") == ["color.r", "color.g", "color.b", "depth"]
+    assert F.required_passes(F.PAPER_10) == ["Radiance", "Albedo", "Normal", "Depth"]
+    assert F.required_passes(["scatter_position.x"]) == ["ScatterPosition", "ScatterDepth"]
+    with pytest.raises(ValueError, match="unknown feature channel"):
+        F.resolve_channels("color,bogus")
+    with pytest.raises(ValueError, match="duplicate"):
+        F.resolve_channels("color,color.r")
+
+
+def test_build_features_shapes_ranges_and_misses() -> None:
+    h, w = 23, 37
+    passes, hit, scatter = synthetic_passes(h, w, 1)
+    channels = list(F.CHANNELS)
+    feats = F.build_features(passes, channels)
+    assert feats.shape == (len(channels), h, w)
+    assert feats.dtype == np.float32
+    assert feats.flags["C_CONTIGUOUS"]
+    assert np.isfinite(feats).all()
+    assert feats.min() >= 0.0 and feats.max() <= 1.0
+    plane = {name: feats[i] for i, name in enumerate(channels)}
+
+    radiance = passes["Radiance"]
+    expected = np.clip(np.maximum(radiance[:, :, 1], 0) ** (1 / 2.2), 0, 1)
+    np.testing.assert_allclose(plane["color.g"], expected, atol=1e-6)
+    np.testing.assert_array_equal(plane["albedo.r"], np.clip(passes["Albedo"][:, :, 0], 0, 1))
+    np.testing.assert_allclose(plane["normal.z"], (passes["Normal"][:, :, 2] + 1) / 2, atol=1e-7)
+    # Misses: depth 1, position 0, normal 0.5, albedo/colour 0.
+    assert (plane["depth"][~hit] == 1.0).all()
+    assert (plane["position.y"][~hit] == 0.0).all()
+    assert (plane["normal.x"][~hit] == 0.5).all()
+    assert (plane["albedo.b"][~hit] == 0.0).all()
+    assert (plane["scatter_depth"][~scatter] == 1.0).all()
+    assert (plane["scatter_position.z"][~scatter] == 0.0).all()
+    assert (plane["scatter_normal.y"][~scatter] == 0.5).all()
+    # Hits span [0, 1] per frame.
+    d = passes["Depth"][:, :, 0]
+    assert plane["depth"][hit].min() == 0.0 and plane["depth"][hit].max() == 1.0
+    np.testing.assert_allclose(plane["depth"][hit],
+                               (d[hit] - d[hit].min()) / (d[hit].max() - d[hit].min()),
+                               atol=1e-6)
+    px = passes["Position"][:, :, 0][hit]
+    np.testing.assert_allclose(plane["position.x"][hit], (px - px.min()) / (px.max() - px.min()),
+                               atol=1e-6)
+    assert plane["scatter_depth"][scatter].min() == 0.0
+    assert plane["scatter_depth"][scatter].max() == 1.0
+
+    # Channel order follows the request; presets work; (H, W) single-channel passes work.
+    sub = F.build_features(passes, ["depth", "color.r"])
+    np.testing.assert_array_equal(sub[0], plane["depth"])
+    np.testing.assert_array_equal(sub[1], plane["color.r"])
+    passes2 = dict(passes, Depth=passes["Depth"][:, :, 0])
+    assert F.build_features(passes2, F.PAPER_10).shape == (10, h, w)
+    assert F.build_features(passes, F.VOLUME_FEATURES).shape == (14, h, w)
+
+
+def test_build_features_degenerate_frames() -> None:
+    h, w = 5, 7
+    passes, _, _ = synthetic_passes(h, w, 2)
+    # Nothing hit: depth all far.
+    empty = dict(passes, Depth=np.full((h, w, 1), 10.0, np.float32),
+                 Position=np.zeros((h, w, 3), np.float32))
+    feats = F.build_features(empty, ["depth", "position.x"])
+    assert (feats[0] == 1.0).all() and (feats[1] == 0.0).all()
+    # All hits at one depth: zero range -> 0 for hits.
+    flat = dict(passes, Depth=np.where(np.arange(w)[None, :, None] < 3, 4.0, 10.0)
+                .astype(np.float32) * np.ones((h, 1, 1), np.float32))
+    feats = F.build_features(flat, ["depth"])
+    assert (feats[0][:, :3] == 0.0).all() and (feats[0][:, 3:] == 1.0).all()
+    # Errors.
+    with pytest.raises(KeyError, match="Albedo"):
+        F.build_features({"Radiance": passes["Radiance"]}, ["albedo.r"])
+    with pytest.raises(ValueError, match="expected"):
+        F.build_features(dict(passes, Normal=passes["Normal"][:, :, :2]), ["normal.x"])
+    with pytest.raises(ValueError, match="unknown"):
+        F.build_features(passes, ["nope"])
+
+
+# --- export --------------------------------------------------------------------------------------
+def test_export_checker_and_metadata(tmp_path: Path) -> None:
+    import onnx
+
+    net = random_net(14, 5, hidden=8)
+    path = export(net, tmp_path / "sub" / "gn.onnx", F.VOLUME_FEATURES,
+                  extra_metadata={"ptv.note": "test"})
+    assert path.is_file()
+    assert path.stat().st_size < 1_000_000
+    assert [p.name for p in path.parent.iterdir()] == ["gn.onnx"]  # no temp file left
+    model = onnx.load(str(path))
+    onnx.checker.check_model(model)
+    assert max(o.version for o in model.opset_import if o.domain in ("", "ai.onnx")) == 17
+    props = {p.key: p.value for p in model.metadata_props}
+    assert props["ptv.format"] == "guidenet-v1"
+    assert props["ptv.input_channels"] == ",".join(F.VOLUME_FEATURES)
+    assert props["ptv.levels"] == "4:4,8:8,16:16"
+    assert props["ptv.guide_scale"] == "255"
+    assert props["ptv.outputs"] == "guide0,guide1,guide2,weight0,weight1"
+    assert props["ptv.note"] == "test"
+    (inp,), (out,) = model.graph.input, model.graph.output
+    assert inp.name == "features" and out.name == "guides_weights"
+    dims = [d.dim_value or d.dim_param for d in inp.type.tensor_type.shape.dim]
+    assert dims[:2] == [1, 14] and all(isinstance(d, str) for d in dims[2:])
+    dims = [d.dim_value or d.dim_param for d in out.type.tensor_type.shape.dim]
+    assert dims[:2] == [1, 5] and all(isinstance(d, str) for d in dims[2:])
+
+    with pytest.raises(ValueError, match="channel names"):
+        export(net, tmp_path / "x.onnx", F.PAPER_10)
+    with pytest.raises(ValueError, match="levels"):
+        export(net, tmp_path / "x.onnx", F.VOLUME_FEATURES, levels=((4, 4), (8, 8)))
+    with pytest.raises(ValueError, match="override"):
+        export(net, tmp_path / "x.onnx", F.VOLUME_FEATURES,
+               extra_metadata={"ptv.format": "x"})
+    assert not (tmp_path / "x.onnx").exists()
+
+
+def test_export_cli(tmp_path: Path) -> None:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (env.get("PYTHONPATH", ""), str(TRAINING)) if p)
+    cmd = [sys.executable, "-m", "ptv_training.export_onnx"]
+    help_text = subprocess.run(cmd + ["--help"], env=env, check=True, capture_output=True,
+                               text=True).stdout
+    assert "--channels" in help_text and "--seed" in help_text
+    out = tmp_path / "cli.onnx"
+    for _ in range(2):
+        subprocess.run(cmd + [str(out), "--hidden", "0", "--seed", "7"], env=env, check=True,
+                       capture_output=True)
+    first = out.read_bytes()
+    subprocess.run(cmd + [str(out), "--hidden", "0", "--seed", "7"], env=env, check=True,
+                   capture_output=True)
+    assert out.read_bytes() == first  # seeded: reproducible
+
+
+@pytest.mark.parametrize("w,h", SIZES)
+def test_onnxruntime_python_matches_torch(tmp_path: Path, w: int, h: int) -> None:
+    ort = pytest.importorskip("onnxruntime")
+    net = random_net(10, 11)
+    path = export(net, tmp_path / "gn.onnx", F.PAPER_10)
+    session = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+    feats = random_features(10, h, w, 3)
+    (got,) = session.run(None, {"features": feats[None]})
+    assert got.shape == (1, 5, h, w)
+    diff = float(np.abs(got[0] - torch_forward(net, feats)).max())
+    print(f"onnxruntime-python vs torch {w}x{h}: max |diff| = {diff:.3g}")
+    assert diff <= TOL
+
+
+# --- C++ runner (vtkPTVGuideNet) -----------------------------------------------------------------
+NETS = {
+    "paper10": (F.PAPER_10, {}),
+    "volume14_h8": (F.VOLUME_FEATURES, {"hidden": 8}),
+    "color3_single_conv_k3": (F.COLOR_ONLY, {"hidden": 0, "kernel": 3}),
+}
+
+
+@pytest.mark.parametrize("net_name", list(NETS))
+def test_cxx_runner_matches_torch(ptv, tmp_path: Path, net_name: str) -> None:
+    channels, kw = NETS[net_name]
+    net = random_net(len(channels), 21, **kw)
+    path = export(net, tmp_path / f"{net_name}.onnx", channels)
+    runner = ptv.vtkPTVGuideNet()
+    messages = observe(runner)
+    runner.SetNumberOfThreads(2)
+    runner.SetModelFile(str(path))
+    assert runner.Load(), messages
+    assert runner.IsLoaded()
+    assert runner.GetNumberOfInputChannels() == len(channels)
+    assert [runner.GetInputChannelName(i) for i in range(len(channels))] == channels
+    assert runner.GetInputChannelName(len(channels)) is None
+    assert runner.GetNumberOfLevels() == 3
+    assert runner.GetNumberOfOutputs() == 5
+    assert [(runner.GetSpatialStep(i), runner.GetRangeStep(i)) for i in range(3)] == \
+        [(4, 4), (8, 8), (16, 16)]
+    assert runner.GetSpatialStep(3) == 0
+    assert runner.GetGuideScale() == 255.0
+    assert runner.GetExecutionProvider() in ("CPUExecutionProvider", "CUDAExecutionProvider")
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    output = vtkImageData()
+    for seed, (w, h) in enumerate(SIZES * 2):  # twice: buffers reused across sizes
+        feats = random_features(len(channels), h, w, 100 + seed)
+        features = to_image(feats)
+        assert runner.Run(features, output), messages
+        assert output.GetDimensions() == (w, h, 1)
+        assert output.GetSpacing() == (0.5, 2.0, 1.0)
+        assert output.GetPointData().GetScalars().GetName() == "GuidesWeights"
+        got = from_image(output)
+        diff = float(np.abs(got - torch_forward(net, feats)).max())
+        print(f"vtkPTVGuideNet ({net_name}, {runner.GetExecutionProvider()}) vs torch "
+              f"{w}x{h}: max |diff| = {diff:.3g}, {runner.GetLastRunTime():.2f} ms")
+        assert diff <= TOL
+        assert runner.GetLastRunTime() > 0.0
+    assert messages == []
+
+
+def test_cxx_runner_threads_and_reload(ptv, tmp_path: Path) -> None:
+    net = random_net(10, 4)
+    path = export(net, tmp_path / "gn.onnx", F.PAPER_10)
+    feats = random_features(10, 23, 37, 9)
+    runner = ptv.vtkPTVGuideNet()
+    messages = observe(runner)
+    runner.SetModelFile(str(path))
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    results = []
+    for threads in (1, 2, 0):
+        runner.SetNumberOfThreads(threads)
+        output = vtkImageData()
+        assert runner.Run(to_image(feats), output), messages  # loads on demand
+        results.append(from_image(output).copy())
+    assert runner.GetNumberOfThreads() == 0
+    for r in results[1:]:
+        assert float(np.abs(r - results[0]).max()) <= TOL
+    assert messages == []
+    assert "CPUExecutionProvider" in str(runner) or "CUDAExecutionProvider" in str(runner)
+
+
+def test_default_model_file(ptv, monkeypatch) -> None:
+    monkeypatch.delenv("PTV_DATA_DIR", raising=False)
+    default = Path(ptv.vtkPTVGuideNet.GetDefaultModelFile())
+    assert default == REPO / "Data" / "Models" / "guidenet.onnx"
+    monkeypatch.setenv("PTV_DATA_DIR", "/somewhere/data")
+    assert ptv.vtkPTVGuideNet.GetDefaultModelFile() == "/somewhere/data/Models/guidenet.onnx"
+    assert ptv.vtkPTVGuideNet.GetRuntimeVersion().startswith("1.")
+
+
+# --- bad models and inputs -----------------------------------------------------------------------
+def edited_model(src: Path, dst: Path, edit) -> Path:
+    import onnx
+
+    model = onnx.load(str(src))
+    edit(model)
+    onnx.save(model, str(dst))
+    return dst
+
+
+def set_prop(key: str, value: str):
+    def edit(model):
+        for p in model.metadata_props:
+            if p.key == key:
+                p.value = value
+    return edit
+
+
+def drop_props(model) -> None:
+    del model.metadata_props[:]
+
+
+def bad_models(tmp_path: Path):
+    good = export(random_net(14, 1, hidden=8), tmp_path / "good.onnx", F.VOLUME_FEATURES)
+    data = good.read_bytes()
+    truncated = tmp_path / "truncated.onnx"
+    truncated.write_bytes(data[:len(data) // 2])
+    garbage = tmp_path / "random.onnx"
+    garbage.write_bytes(np.random.default_rng(0).integers(0, 256, 4096, np.uint8).tobytes())
+    empty = tmp_path / "empty.onnx"
+    empty.write_bytes(b"")
+    ten = ",".join(F.PAPER_10)
+    return good, {
+        "missing": (tmp_path / "does_not_exist.onnx", ["does_not_exist.onnx", "cannot open"]),
+        "truncated": (truncated, ["truncated.onnx", "ONNX Runtime could not load"]),
+        "random_bytes": (garbage, ["random.onnx", "ONNX Runtime could not load"]),
+        "empty": (empty, ["empty.onnx", "ONNX Runtime could not load"]),
+        "channel_count": (
+            edited_model(good, tmp_path / "channels.onnx", set_prop("ptv.input_channels", ten)),
+            [f"model declares 14 input channels but ptv.input_channels lists 10: {ten}"]),
+        "no_metadata": (edited_model(good, tmp_path / "nometa.onnx", drop_props),
+                        ["ptv.format is missing", "ptv.input_channels is missing",
+                         "ptv.levels is missing"]),
+        "wrong_format": (
+            edited_model(good, tmp_path / "format.onnx", set_prop("ptv.format", "guidenet-v0")),
+            ['ptv.format is "guidenet-v0", expected "guidenet-v1"']),
+        "level_count": (
+            edited_model(good, tmp_path / "levels.onnx", set_prop("ptv.levels", "4:4,8:8")),
+            ["model outputs 5 channels but ptv.levels lists 2 levels"]),
+        "bad_levels": (
+            edited_model(good, tmp_path / "badlevels.onnx", set_prop("ptv.levels", "4x4")),
+            ['ptv.levels "4x4" is not a list']),
+    }
+
+
+def test_cxx_runner_rejects_bad_models(ptv, tmp_path: Path) -> None:
+    good, cases = bad_models(tmp_path)
+    runner = ptv.vtkPTVGuideNet()
+    messages = observe(runner)
+    runner.SetNumberOfThreads(1)
+    for name, (path, expected) in cases.items():
+        runner.SetModelFile(str(good))
+        assert runner.Load(), messages
+        messages.clear()
+        runner.SetModelFile(str(path))
+        assert not runner.Load(), name
+        assert len(messages) == 1, (name, messages)
+        print(f"{name}: {messages[0].strip()}")
+        assert messages[0].startswith("ErrorEvent")
+        for text in expected:
+            assert text in messages[0], (name, text, messages[0])
+        assert not runner.IsLoaded()
+        assert runner.GetNumberOfInputChannels() == 0
+        assert runner.GetExecutionProvider() is None
+        # Run tries to load the bad file again and fails the same way.
+        messages.clear()
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        assert not runner.Run(to_image(random_features(14, 4, 5, 0)), vtkImageData())
+        assert len(messages) == 1 and expected[0] in messages[0]
+    # Still alive and usable.
+    messages.clear()
+    runner.SetModelFile(str(good))
+    assert runner.Load() and runner.GetNumberOfInputChannels() == 14
+    runner.SetModelFile(None)
+    assert not runner.Load()
+    assert "No ModelFile set" in messages[-1]
+
+
+def test_cxx_runner_rejects_bad_inputs(ptv, tmp_path: Path) -> None:
+    from vtkmodules.util import numpy_support
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    path = export(random_net(10, 2), tmp_path / "gn.onnx", F.PAPER_10)
+    runner = ptv.vtkPTVGuideNet()
+    messages = observe(runner)
+    runner.SetModelFile(str(path))
+    assert runner.Load()
+    output = vtkImageData()
+
+    def fails(features, *texts):
+        messages.clear()
+        assert not runner.Run(features, output)
+        assert len(messages) == 1, messages
+        for text in texts:
+            assert text in messages[0], (text, messages[0])
+
+    fails(to_image(random_features(14, 6, 5, 0)),
+          "'Features' has 14 components but the model", "expects 10 channels: color.r,")
+    double_image = to_image(random_features(10, 6, 5, 0))
+    double_image.GetPointData().SetScalars(numpy_support.numpy_to_vtk(
+        np.zeros((30, 10), np.float64), deep=True))
+    fails(double_image, "is double, expected float")
+    volume = to_image(random_features(10, 6, 5, 0))
+    volume.SetDimensions(5, 3, 2)
+    fails(volume, "must be W x H x 1")
+    no_array = vtkImageData()
+    no_array.SetDimensions(5, 6, 1)
+    fails(no_array, "no active scalars")
+    same = to_image(random_features(10, 6, 5, 0))
+    messages.clear()
+    assert not runner.Run(same, same)
+    assert len(messages) == 1 and "distinct" in messages[0]
+    # And a good run afterwards.
+    messages.clear()
+    assert runner.Run(to_image(random_features(10, 6, 5, 0)), output)
+    assert messages == []

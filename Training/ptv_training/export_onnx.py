@@ -1,0 +1,176 @@
+"""Export a :class:`~ptv_training.guidenet.GuideNet` to ONNX ("guidenet-v1") for the C++ side
+(``vtkPTVGuideNet``, ONNX Runtime).
+
+Contract: opset 17; one input ``features`` ``[1, C, H, W]`` float32 (H, W dynamic); one output
+``guides_weights`` ``[1, 2L - 1, H, W]``; metadata_props::
+
+    ptv.format          guidenet-v1
+    ptv.input_channels  comma-separated channel names (ptv_training.features), in input order
+    ptv.levels          "ss:sr" per level, finest first: "4:4,8:8,16:16"
+    ptv.guide_scale     255 (guides in [0, 1] times this = grid range coordinate)
+    ptv.outputs         guide0,...,guide{L-1},weight0,...,weight{L-2}
+    ptv.architecture    GuideNet constructor arguments (informative)
+
+The file is written to a temporary file next to ``path`` and moved into place (atomic).
+
+CLI (random, seeded weights; useful for tests until a trained model exists)::
+
+    python -m ptv_training.export_onnx OUT.onnx [--channels PAPER_10] [--hidden 20] ...
+"""
+from __future__ import annotations
+
+import argparse
+import io
+import os
+import tempfile
+from pathlib import Path
+from typing import Dict, Mapping, Optional, Sequence, Tuple
+
+import torch
+
+from .features import resolve_channels
+from .guidenet import GuideNet, count_parameters
+
+FORMAT = "guidenet-v1"
+OPSET = 17
+INPUT_NAME = "features"
+OUTPUT_NAME = "guides_weights"
+DEFAULT_LEVELS: Tuple[Tuple[int, int], ...] = ((4, 4), (8, 8), (16, 16))
+GUIDE_SCALE = 255
+RESERVED_KEYS = ("ptv.format", "ptv.input_channels", "ptv.levels", "ptv.guide_scale",
+                 "ptv.outputs", "ptv.architecture")
+
+
+def levels_string(levels: Sequence[Tuple[int, int]]) -> str:
+    """((4, 4), (8, 8)) -> "4:4,8:8"."""
+    return ",".join(f"{int(ss)}:{int(sr)}" for ss, sr in levels)
+
+
+def outputs_string(num_levels: int) -> str:
+    """3 -> "guide0,guide1,guide2,weight0,weight1"."""
+    return ",".join([f"guide{i}" for i in range(num_levels)] +
+                    [f"weight{i}" for i in range(num_levels - 1)])
+
+
+def metadata(model: GuideNet, channels: Sequence[str],
+             levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
+             extra_metadata: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
+    """The metadata_props an export writes (after checking them against the model)."""
+    channels = list(channels)
+    resolve_channels(channels)  # unknown names raise
+    if len(channels) != model.in_channels:
+        raise ValueError(f"{len(channels)} channel names for a model with "
+                         f"{model.in_channels} input channels")
+    levels = [(int(ss), int(sr)) for ss, sr in levels]
+    if len(levels) != model.levels:
+        raise ValueError(f"{len(levels)} levels for a model with {model.levels}")
+    if any(ss < 1 or sr < 1 for ss, sr in levels):
+        raise ValueError(f"level steps must be positive: {levels}")
+    props = {
+        "ptv.format": FORMAT,
+        "ptv.input_channels": ",".join(channels),
+        "ptv.levels": levels_string(levels),
+        "ptv.guide_scale": str(GUIDE_SCALE),
+        "ptv.outputs": outputs_string(model.levels),
+        "ptv.architecture": ",".join(f"{k}={v}" for k, v in model.config().items()),
+    }
+    for key, value in (extra_metadata or {}).items():
+        if key in RESERVED_KEYS:
+            raise ValueError(f"extra_metadata must not override {key!r}")
+        props[str(key)] = str(value)
+    return props
+
+
+def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
+           levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
+           extra_metadata: Optional[Mapping[str, str]] = None) -> Path:
+    """Write ``model`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the path."""
+    import onnx  # local: keeps `import ptv_training.*` free of onnx/protobuf
+
+    props = metadata(model, channels, levels, extra_metadata)
+    path = Path(path)
+    was_training = model.training
+    model.eval()
+    try:
+        dummy = torch.zeros(1, model.in_channels, 16, 24, dtype=torch.float32)
+        buffer = io.BytesIO()
+        with torch.no_grad():
+            torch.onnx.export(
+                model, dummy, buffer, opset_version=OPSET, export_params=True,
+                do_constant_folding=True, input_names=[INPUT_NAME], output_names=[OUTPUT_NAME],
+                dynamic_axes={INPUT_NAME: {2: "height", 3: "width"},
+                              OUTPUT_NAME: {2: "height", 3: "width"}})
+    finally:
+        model.train(was_training)
+    proto = onnx.load_from_string(buffer.getvalue())
+    del proto.metadata_props[:]
+    for key, value in props.items():
+        entry = proto.metadata_props.add()
+        entry.key = key
+        entry.value = value
+    proto.doc_string = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
+                        f"{count_parameters(model)} parameters)")
+    onnx.checker.check_model(proto)
+    data = proto.SerializeToString()
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path
+
+
+def parse_levels(text: str) -> Tuple[Tuple[int, int], ...]:
+    """ "4:4,8:8,16:16" -> ((4, 4), (8, 8), (16, 16))."""
+    try:
+        levels = tuple((int(a), int(b)) for a, b in
+                       (item.split(":") for item in text.split(",") if item.strip()))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"levels must look like 4:4,8:8,16:16, got {text!r}") \
+            from None
+    if not levels:
+        raise argparse.ArgumentTypeError("at least one level is needed")
+    return levels
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m ptv_training.export_onnx",
+        description="Export a randomly initialised (seeded) GuideNet as a guidenet-v1 ONNX "
+                    "model (for tests and timing until a trained model exists).")
+    parser.add_argument("output", type=Path, help="the .onnx file to write")
+    parser.add_argument("--channels", default="PAPER_10",
+                        help="preset (COLOR_ONLY, PAPER_10, VOLUME_FEATURES) or comma-separated "
+                             "channel/group names (default: PAPER_10)")
+    parser.add_argument("--hidden", type=int, default=20,
+                        help="hidden channels; 0 = a single conv (default: 20)")
+    parser.add_argument("--kernel", type=int, default=5, help="odd kernel size (default: 5)")
+    parser.add_argument("--levels", type=parse_levels, default=DEFAULT_LEVELS,
+                        help="ss:sr per level (default: 4:4,8:8,16:16)")
+    parser.add_argument("--seed", type=int, default=0, help="torch seed (default: 0)")
+    args = parser.parse_args(argv)
+
+    channels = resolve_channels(args.channels)
+    torch.manual_seed(args.seed)
+    model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
+                     levels=len(args.levels))
+    path = export(model, args.output, channels, args.levels,
+                  extra_metadata={"ptv.weights": f"random seed {args.seed}"})
+    print(f"wrote {path} ({path.stat().st_size} bytes): {len(channels)} channels, "
+          f"{count_parameters(model)} parameters, levels {levels_string(args.levels)}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
