@@ -17,6 +17,9 @@ const PassInfo kPasses[PassCount] = {
   { "ScatterDepth", 1 },
   { "ScatterPosition", 3 },
   { "ScatterNormal", 3 },
+  { "Denoised", 3 },
+  { "Guides", 3 },
+  { "BlendWeights", 2 },
 };
 
 void Put3(std::vector<float>& b, int pixel, const Vec3& v)
@@ -93,7 +96,7 @@ void PassBuffers::Store(int pixel, const PixelSample& s)
 void PassBuffers::Accumulate(const PassBuffers& frame, int count)
 {
   const float w = 1.0f / static_cast<float>(count);
-  for (int i = 0; i < PassCount; ++i)
+  for (int i = 0; i < kTracedPassCount; ++i)
   {
     float* acc = this->Buffers[i].data();
     const float* in = frame.Buffers[i].data();

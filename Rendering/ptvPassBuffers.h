@@ -24,8 +24,14 @@ enum PassId
   PassScatterDepth,
   PassScatterPosition,
   PassScatterNormal,
+  PassDenoised,     ///< produced by the denoiser from the traced passes (not accumulated)
+  PassGuides,       ///< its guides, one level per component (unused levels 0)
+  PassBlendWeights, ///< its blend weights (unused 0)
   PassCount
 };
+
+/// Passes written by the tracer and accumulated; the others are derived from them.
+constexpr int kTracedPassCount = PassDenoised;
 
 struct PassInfo
 {
@@ -55,7 +61,7 @@ public:
   /// Write @a s (already averaged over the frame's samples) at pixel index @a pixel.
   void Store(int pixel, const PixelSample& s);
 
-  /// Running mean: this += (frame - this) / count, where count >= 1 is the new frame count.
+  /// Running mean of the traced passes: this += (frame - this) / count (count >= 1).
   void Accumulate(const PassBuffers& frame, int count);
 
 private:

@@ -2,6 +2,7 @@
 
 #include "ptvCpuTracer.h"
 #include "ptvCudaDevice.h"
+#include "ptvDenoiser.h"
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
 #include "ptvPassBuffers.h"
@@ -30,6 +31,10 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   ptv::FrameInputs Inputs;
   ptv::PassBuffers Frame;
   ptv::PassBuffers Accumulated;
+  ptv::Denoiser Denoiser;
+  std::vector<float> DenoiseOutput;
+  bool DenoisedValid = false;       // the Denoised/Guides/BlendWeights passes match the frame
+  std::vector<std::string> DenoiseKey; // settings of the last denoise
   ptv::Display Display;
   ptv::TraceParams Params{};
   ptv::FrameSignature Signature;
@@ -127,6 +132,13 @@ vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
 vtkPathTracedVolumeMapper::~vtkPathTracedVolumeMapper()
 {
   this->SetDisplayPass(nullptr);
+  this->SetDenoiserModelFile(nullptr);
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::GetDenoiserStatus()
+{
+  return this->Internals->Denoiser.GetStatus().c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -186,6 +198,12 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
     vtkErrorMacro(<< "Pass '" << name << "' is not available before the first render.");
     return false;
   }
+  if (pass >= ptv::kTracedPassCount && !this->Internals->DenoisedValid)
+  {
+    vtkErrorMacro(<< "Pass '" << name << "' is produced by the denoiser; turn Denoise on and "
+                  << "render first.");
+    return false;
+  }
   const ptv::PassBuffers& acc = this->Internals->Accumulated;
   const int comps = ptv::GetPassInfo(pass).Components;
   const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
@@ -208,6 +226,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& in = *this->Internals;
   this->LastRenderTraced = false;
   this->LastTraceTime = 0.0;
+  this->LastDenoiseTime = 0.0;
   auto report = [this, &in](const std::string& error)
   {
     if (error != in.LastError)
@@ -302,10 +321,15 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     in.Accumulated.Accumulate(in.Frame, this->AccumulatedFrames);
     this->LastTraceTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
     this->LastRenderTraced = true;
+    in.DenoisedValid = false;
+  }
+  if (this->Denoise)
+  {
+    this->DenoiseFrame(width, height);
   }
 
-  // What to show: the radiance (premultiplied, blended) or a colourised pass (opaque).
-  int shown = ptv::PassRadiance;
+  // What to show: the (denoised) radiance, premultiplied and blended, or a colourised pass.
+  int shown = this->Denoise && in.DenoisedValid ? ptv::PassDenoised : ptv::PassRadiance;
   if (this->DisplayPass && *this->DisplayPass)
   {
     shown = ptv::FindPass(this->DisplayPass);
@@ -314,13 +338,18 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       report(std::string("unknown DisplayPass '") + this->DisplayPass + "'; showing Radiance");
       shown = ptv::PassRadiance;
     }
+    else if (shown >= ptv::kTracedPassCount && !in.DenoisedValid)
+    {
+      report(std::string("DisplayPass '") + this->DisplayPass + "' needs Denoise on");
+      shown = ptv::PassRadiance;
+    }
   }
   in.ShownColor.resize(4 * pixels);
   in.ShownDepth.assign(pixels, 1.0f);
   const ptv::PassBuffers& acc = in.Accumulated;
-  if (shown == ptv::PassRadiance)
+  if (shown == ptv::PassRadiance || shown == ptv::PassDenoised)
   {
-    const float* rgb = acc.Data(ptv::PassRadiance);
+    const float* rgb = acc.Data(shown);
     const float* alpha = acc.Data(ptv::PassAlpha);
     for (std::size_t i = 0; i < pixels; ++i)
     {
@@ -365,6 +394,61 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 }
 
 //------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::DenoiseFrame(int width, int height)
+{
+  vtkInternals& in = *this->Internals;
+  const std::vector<std::string> key = { this->DenoiserModelFile ? this->DenoiserModelFile : "",
+    std::to_string(this->DenoiserNumberOfLevels), std::to_string(this->NumberOfThreads),
+    this->DenoiserUseNetwork ? "net" : "fixed" };
+  if (in.DenoisedValid && key == in.DenoiseKey)
+  {
+    return; // nothing new to denoise
+  }
+  ptv::DenoiserSettings settings;
+  settings.ModelFile = key[0];
+  settings.Levels = this->DenoiserNumberOfLevels;
+  settings.UseNetwork = this->DenoiserUseNetwork;
+  settings.Threads = this->NumberOfThreads;
+  ptv::PassBuffers& acc = in.Accumulated;
+  const float* passes[ptv::PassCount] = {};
+  for (int p = 0; p < ptv::kTracedPassCount; ++p)
+  {
+    passes[p] = acc.Data(p);
+  }
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const double start = vtkTimerLog::GetUniversalTime();
+  std::string error;
+  if (!in.Denoiser.Run(settings, passes, width, height, acc.Data(ptv::PassDenoised), error))
+  {
+    vtkErrorMacro(<< "Denoising failed: " << error);
+    return;
+  }
+  const std::string warning = in.Denoiser.TakeWarning();
+  if (!warning.empty())
+  {
+    vtkWarningMacro(<< warning);
+  }
+  // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
+  const int levels = in.Denoiser.GetLevels();
+  float* guides = acc.Data(ptv::PassGuides);
+  float* weights = acc.Data(ptv::PassBlendWeights);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      guides[3 * k + l] = l < levels ? in.Denoiser.GetGuides()[k * levels + l] : 0.0f;
+    }
+    for (int l = 0; l < 2; ++l)
+    {
+      weights[2 * k + l] = l < levels - 1 ? in.Denoiser.GetWeights()[k * (levels - 1) + l] : 0.0f;
+    }
+  }
+  in.DenoisedValid = true;
+  in.DenoiseKey = key;
+  this->LastDenoiseTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
+}
+
+//------------------------------------------------------------------------------
 void vtkPathTracedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
   this->Internals->Display.ReleaseGraphicsResources(window);
@@ -388,6 +472,12 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EnvironmentIntensity: " << this->EnvironmentIntensity << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "Denoise: " << this->Denoise << "\n";
+  os << indent << "DenoiserModelFile: "
+     << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";
+  os << indent << "DenoiserUseNetwork: " << this->DenoiserUseNetwork << "\n";
+  os << indent << "DenoiserNumberOfLevels: " << this->DenoiserNumberOfLevels << "\n";
+  os << indent << "DenoiserStatus: " << this->Internals->Denoiser.GetStatus() << "\n";
   os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
      << "\n";
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";

@@ -21,7 +21,9 @@
  * Passes (GetPassName): "Radiance" (premultiplied HDR RGB), "Alpha", "Albedo", "Depth",
  * "Position", "Normal" (first non-transparent sample), "ScatterDepth", "ScatterPosition",
  * "ScatterNormal" (the scattering event). Depth is the world distance from the eye; misses have
- * depth = camera far distance, position 0, normal 0.
+ * depth = camera far distance, position 0, normal 0. With Denoise on, the denoiser (see
+ * vtkPTVDenoiser) adds "Denoised" (shown by default), "Guides" and "BlendWeights", computed from
+ * the accumulated passes after each traced frame.
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h
@@ -132,6 +134,47 @@ public:
 
   ///@{
   /**
+   * Denoise the accumulated image with the neural bilateral grid and show the result. Default
+   * on. Without a usable model the denoiser uses a fixed guide and warns once.
+   */
+  vtkSetMacro(Denoise, bool);
+  vtkGetMacro(Denoise, bool);
+  vtkBooleanMacro(Denoise, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The GuideNet model. Default: empty = the shipped Data/Models/guidenet.onnx.
+   */
+  vtkSetFilePathMacro(DenoiserModelFile);
+  vtkGetFilePathMacro(DenoiserModelFile);
+  ///@}
+
+  ///@{
+  /**
+   * Use GuideNet (on, default) or always the denoiser's fixed guide (off, no network).
+   */
+  vtkSetMacro(DenoiserUseNetwork, bool);
+  vtkGetMacro(DenoiserUseNetwork, bool);
+  vtkBooleanMacro(DenoiserUseNetwork, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's; 1..3 = the finest.
+   */
+  vtkSetClampMacro(DenoiserNumberOfLevels, int, 0, 3);
+  vtkGetMacro(DenoiserNumberOfLevels, int);
+  ///@}
+
+  /// What the last denoise used: "GuideNet <model> (...)" or "fixed guide: <why>".
+  const char* GetDenoiserStatus();
+
+  /// Milliseconds spent denoising in the last render (0 if it did not denoise).
+  vtkGetMacro(LastDenoiseTime, double);
+
+  ///@{
+  /**
    * Threads used to trace a frame; 0 (default) uses every core. Frames are bit-identical for
    * any value. When VTK's SMP backend is "Sequential" the tracer uses "STDThread" for its own
    * loop only.
@@ -142,8 +185,9 @@ public:
 
   ///@{
   /**
-   * Pass shown in the render window; empty (default) shows "Radiance". Vectors are shown as
-   * |x| per channel, depths normalised to the volume's depth range.
+   * Pass shown in the render window; empty (default) shows "Denoised" when Denoise is on, else
+   * "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
+   * depths to the range of hits (near = bright).
    */
   vtkSetStringMacro(DisplayPass);
   vtkGetStringMacro(DisplayPass);
@@ -193,6 +237,9 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
+  /// Run the denoiser on the accumulated passes (when something changed since the last run).
+  void DenoiseFrame(int width, int height);
+
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;
   unsigned int Seed = 0;
@@ -205,11 +252,16 @@ protected:
   double EnvironmentIntensity = 1.0;
   bool EmptySpaceSkipping = true;
   int NumberOfThreads = 0;
+  bool Denoise = true;
+  char* DenoiserModelFile = nullptr;
+  bool DenoiserUseNetwork = true;
+  int DenoiserNumberOfLevels = 0;
   char* DisplayPass = nullptr;
 
   int AccumulatedFrames = 0;
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
+  double LastDenoiseTime = 0.0;
 
 private:
   vtkPathTracedVolumeMapper(const vtkPathTracedVolumeMapper&) = delete;

@@ -65,6 +65,7 @@ struct Scene
     this->Property->SetScalarOpacity(this->Opacity);
     this->Property->ShadeOn();
     this->Mapper->SetInputConnection(this->Source->GetOutputPort());
+    this->Mapper->DenoiseOff(); // the tracer's behaviour; TestDenoise turns it on
     this->Volume->SetMapper(this->Mapper);
     this->Volume->SetProperty(this->Property);
     this->Renderer->AddVolume(this->Volume);
@@ -175,8 +176,8 @@ void TestPasses()
   vtkNew<vtkImageData> image;
   Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
   s.Window->Render();
-  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 9, "nine passes");
-  for (int i = 0; i < vtkPathTracedVolumeMapper::GetNumberOfPasses(); ++i)
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 12, "9 traced + 3 denoiser passes");
+  for (int i = 0; i < 9; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);
     Check(s.Mapper->GetPass(name, image), std::string("pass ") + name);
@@ -188,6 +189,8 @@ void TestPasses()
     Check(AllFinite(s.Pass(name)), std::string("pass ") + name + " finite");
   }
   Check(vtkPathTracedVolumeMapper::GetPassName(99) == nullptr, "out-of-range pass name");
+  Check(!s.Mapper->GetPass("Denoised", image), "no Denoised pass with Denoise off");
+  Check(errors->CheckErrorMessage("Denoise on") == 0, "the error says to turn Denoise on");
   Check(!s.Mapper->GetPass("Nope", image), "unknown pass is an error");
   Check(errors->CheckErrorMessage("'Nope'") == 0, "error names the unknown pass");
   const auto alpha = s.Pass("Alpha");
@@ -198,6 +201,43 @@ void TestPasses()
   }
   Check(covered > 0.05f * alpha.size() && covered < 0.95f * alpha.size(),
     "the volume covers part of the view");
+}
+
+void TestDenoise()
+{
+  Scene s(48);
+  s.Mapper->DenoiseOn();
+  s.Mapper->DenoiserUseNetworkOff(); // deterministic and model-independent
+  s.Mapper->SetMaximumAccumulatedFrames(2);
+  s.Window->Render();
+  Check(s.Mapper->GetLastDenoiseTime() > 0.0, "a traced frame is denoised");
+  Check(std::string(s.Mapper->GetDenoiserStatus()).find("fixed guide") == 0,
+    "status names the fixed guide");
+  const auto denoised = s.Pass("Denoised");
+  const auto guides = s.Pass("Guides");
+  const auto weights = s.Pass("BlendWeights");
+  Check(denoised.size() == 48 * 48 * 3 && AllFinite(denoised), "Denoised pass, finite");
+  Check(guides.size() == 48 * 48 * 3 && AllFinite(guides), "Guides pass, finite");
+  Check(weights.size() == 48 * 48 * 2 && AllFinite(weights), "BlendWeights pass, finite");
+  Check(denoised != s.Pass("Radiance"), "denoising changes the image");
+  s.Window->Render();
+  s.Window->Render(); // accumulation limit reached: neither traced nor denoised again
+  Check(!s.Mapper->GetLastRenderTraced() && s.Mapper->GetLastDenoiseTime() == 0.0,
+    "nothing new, nothing denoised");
+  s.Mapper->SetDenoiserNumberOfLevels(1);
+  s.Window->Render();
+  Check(s.Mapper->GetLastDenoiseTime() > 0.0 && s.Mapper->GetAccumulatedFrames() == 2,
+    "a denoiser setting re-denoises without restarting the accumulation");
+
+  // A missing model: the fixed guide takes over with one warning.
+  Scene t(32);
+  t.Mapper->DenoiseOn();
+  t.Mapper->SetDenoiserModelFile("/nonexistent/guidenet.onnx");
+  vtkNew<vtkTest::ErrorObserver> obs;
+  t.Mapper->AddObserver(vtkCommand::WarningEvent, obs);
+  t.Window->Render();
+  Check(obs->CheckWarningMessage("/nonexistent/guidenet.onnx") == 0, "missing model warns");
+  Check(AllFinite(t.Pass("Denoised")), "missing model still denoises (fixed guide)");
 }
 
 void TestDeterminism()
@@ -302,6 +342,7 @@ int TestPTVMapperBehavior(int, char*[])
 {
   TestAccumulation();
   TestPasses();
+  TestDenoise();
   TestDeterminism();
   TestBadInput();
   return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;

@@ -4,6 +4,7 @@
 //   head_1spp, head_256spp               the head CT with its paper preset
 //   pass_<Name>                          each auxiliary pass shown through DisplayPass
 //   sphere                               an opaque polygonal sphere intersecting the volume
+//   head_1spp_fixedguide                 the denoiser's fixed guide (no network) on 1 spp
 // The tracer is deterministic (seeded per pixel and frame), so the threshold only absorbs
 // OpenGL differences; a real change of the estimator moves many pixels and fails.
 #include "vtkActor.h"
@@ -87,6 +88,7 @@ int TestPTVMapperImage(int argc, char* argv[])
   const std::string name = CaseName(argc, argv);
   const bool head = name.rfind("head", 0) == 0;
   const bool accumulate = name.find("256spp") != std::string::npos;
+  // head_1spp_fixedguide is a head case too (name starts with "head").
   std::cout << "case: " << name << "\n";
 
   vtkNew<vtkVolumeProperty> property;
@@ -94,6 +96,8 @@ int TestPTVMapperImage(int argc, char* argv[])
   property->ShadeOn();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
   mapper->SetSeed(7);
+  mapper->SetDenoise(name == "head_1spp_fixedguide"); // tracer images are compared undenoised
+  mapper->DenoiserUseNetworkOff(); // the fixed guide does not change when a model ships
   if (head)
   {
     const std::string file = ArgAfter(argc, argv, "-D") + "/head.vti";

@@ -34,6 +34,7 @@ def make_scene(seed: int):
     mapper = ptv.vtkPathTracedVolumeMapper()
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetSeed(seed)
+    mapper.DenoiseOff()
     volume = vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)
@@ -60,7 +61,8 @@ def test_passes_are_numpy_arrays() -> None:
     window.Render()
     names = [mapper.GetPassName(i) for i in range(mapper.GetNumberOfPasses())]
     assert names[:3] == ["Radiance", "Alpha", "Albedo"]
-    for name in names:
+    assert names[-3:] == ["Denoised", "Guides", "BlendWeights"]
+    for name in names[:-3]:
         values = get_pass(mapper, name)
         assert values.dtype == np.float32
         assert values.shape in ((W * H,), (W * H, 3)), name

@@ -1,0 +1,190 @@
+#include "ptvDenoiser.h"
+
+#include "ptvFeatures.h"
+#include "ptvPassBuffers.h"
+#include "vtkPTVGuideNet.h"
+
+#include "vtkTimerLog.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <fstream>
+
+namespace ptv
+{
+namespace
+{
+double NowMs()
+{
+  return 1000.0 * vtkTimerLog::GetUniversalTime();
+}
+
+const std::vector<std::string> kFixedGuideChannels = { "albedo.r", "albedo.g", "albedo.b",
+  "depth", "normal.x", "normal.y", "normal.z" };
+}
+
+//------------------------------------------------------------------------------
+std::string Denoiser::TakeWarning()
+{
+  std::string w;
+  w.swap(this->Warning);
+  return w;
+}
+
+//------------------------------------------------------------------------------
+bool Denoiser::EnsureModel(const DenoiserSettings& settings)
+{
+  const std::string path =
+    settings.ModelFile.empty() ? vtkPTVGuideNet::GetDefaultModelFile() : settings.ModelFile;
+  if (path == this->RequestedModel && settings.Threads == this->SessionThreads)
+  {
+    return this->ModelProblem.empty();
+  }
+  this->RequestedModel = path;
+  this->SessionThreads = settings.Threads;
+  this->ModelProblem.clear();
+  if (!std::ifstream(path).good())
+  {
+    this->ModelProblem = "no GuideNet model at '" + path + "'";
+  }
+  else
+  {
+    this->Session.SetNumberOfThreads(settings.Threads > 0 ? settings.Threads : 0);
+    std::string error;
+    if (!this->Session.Load(path, error))
+    {
+      this->ModelProblem = error;
+    }
+    else
+    {
+      for (const std::string& c : this->Session.GetInputChannels())
+      {
+        if (!IsFeatureChannel(c))
+        {
+          this->ModelProblem =
+            "model '" + path + "' asks for the unknown feature channel '" + c + "'";
+          this->Session.Unload();
+          break;
+        }
+      }
+    }
+  }
+  return this->ModelProblem.empty();
+}
+
+//------------------------------------------------------------------------------
+bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes, int width,
+  int height, float* out, std::string& error)
+{
+  this->Timings = DenoiserTimings{};
+  if (width <= 0 || height <= 0)
+  {
+    error = "cannot denoise an empty image (" + std::to_string(width) + " x " +
+      std::to_string(height) + ")";
+    return false;
+  }
+  if (!passes[PassRadiance] || !passes[PassAlbedo])
+  {
+    error = "denoising needs the Radiance and Albedo passes";
+    return false;
+  }
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+
+  // Guides and weights: GuideNet, or the fixed guide.
+  double t0 = NowMs();
+  this->NetworkActive = settings.UseNetwork && this->EnsureModel(settings);
+  BilateralGridSettings grid;
+  grid.Clamp = settings.Clamp;
+  grid.Threads = settings.Threads;
+  if (this->NetworkActive)
+  {
+    const std::vector<std::string>& channels = this->Session.GetInputChannels();
+    this->Features.resize(channels.size() * n);
+    if (!BuildFeatures(passes, width, height, channels, this->Features.data(), error))
+    {
+      return false; // a pass the model needs is missing: the caller's input is incomplete
+    }
+    const double t1 = NowMs();
+    this->Timings.Features = t1 - t0;
+    const int modelLevels = this->Session.GetNumberOfLevels();
+    this->NetOutput.resize(static_cast<std::size_t>(2 * modelLevels - 1) * n);
+    std::string runError;
+    if (!this->Session.Run(this->Features.data(), height, width, this->NetOutput.data(),
+          runError))
+    {
+      this->NetworkActive = false;
+      this->ModelProblem = runError;
+      this->RequestedModel.clear(); // retry the load next time
+    }
+    else
+    {
+      this->Timings.GuideNet = NowMs() - t1;
+      const int levels = settings.Levels > 0 ? std::min(settings.Levels, modelLevels) : modelLevels;
+      const float scale = static_cast<float>(this->Session.GetGuideScale());
+      this->Levels = levels;
+      this->Guides.resize(n * levels);
+      this->Weights.resize(n * std::max(levels - 1, 0));
+      for (int l = 0; l < levels; ++l)
+      {
+        const float* g = this->NetOutput.data() + l * n;
+        for (std::size_t k = 0; k < n; ++k)
+        {
+          this->Guides[k * levels + l] = g[k] * scale;
+        }
+        grid.SpatialStep[l] = this->Session.GetLevels()[l].first;
+        grid.RangeStep[l] = this->Session.GetLevels()[l].second;
+      }
+      // Fewer levels than the model: the first levels-1 weights, the last level takes the rest.
+      for (int l = 0; l + 1 < levels; ++l)
+      {
+        const float* w = this->NetOutput.data() + (modelLevels + l) * n;
+        for (std::size_t k = 0; k < n; ++k)
+        {
+          this->Weights[k * (levels - 1) + l] = w[k];
+        }
+      }
+      this->Status = "GuideNet " + this->RequestedModel + " (" +
+        this->Session.GetExecutionProvider() + "), " + std::to_string(levels) + " levels";
+    }
+  }
+  if (!this->NetworkActive)
+  {
+    const std::string why = settings.UseNetwork ? this->ModelProblem : "UseNetwork is off";
+    if (settings.UseNetwork && why != this->LastWarned)
+    {
+      this->Warning = why + "; denoising with a fixed guide (no network)";
+      this->LastWarned = why;
+    }
+    this->Status = "fixed guide: " + why;
+    this->Features.resize(kFixedGuideChannels.size() * n);
+    if (!BuildFeatures(
+          passes, width, height, kFixedGuideChannels, this->Features.data(), error))
+    {
+      return false;
+    }
+    const int levels = settings.Levels > 0 ? settings.Levels : 3;
+    this->Levels = levels;
+    this->Guides.resize(n * levels);
+    this->Weights.assign(n * std::max(levels - 1, 0), 1.0f / static_cast<float>(levels));
+    const float* f = this->Features.data();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const float albedo = 0.2126f * f[k] + 0.7152f * f[n + k] + 0.0722f * f[2 * n + k];
+      const float normal = (f[4 * n + k] + f[5 * n + k] + f[6 * n + k]) / 3.0f;
+      const float g = 0.35f * albedo + 0.35f * f[3 * n + k] + 0.3f * normal;
+      for (int l = 0; l < levels; ++l)
+      {
+        this->Guides[k * levels + l] = 255.0f * std::min(1.0f, std::max(0.0f, g));
+      }
+    }
+    this->Timings.Features = NowMs() - t0;
+  }
+
+  grid.Levels = this->Levels;
+  this->Grid.Apply(grid, width, height, passes[PassRadiance], passes[PassAlbedo],
+    this->Guides.data(), this->Levels > 1 ? this->Weights.data() : nullptr, out);
+  this->Timings.Splat = this->Grid.GetLastTimings().Demodulate + this->Grid.GetLastTimings().Splat;
+  this->Timings.Slice = this->Grid.GetLastTimings().Slice;
+  return true;
+}
+}

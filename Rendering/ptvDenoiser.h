@@ -1,0 +1,78 @@
+/**
+ * @file ptvDenoiser.h
+ * @brief Private: one denoised frame from the named passes -- features (ptvFeatures) ->
+ *        GuideNet in ONNX Runtime (ptvGuideNetSession) or, without a usable model, a fixed
+ *        guide -> bilateral grid splat/slice/blend (ptvBilateralGridCpu).
+ *
+ * The fixed guide (no network) is 255 * clip(0.35 lum(albedo) + 0.35 depth + 0.3 mean(normal
+ * feature)) on three levels with equal blend weights: it follows clean geometric features only,
+ * so it smooths along surfaces and keeps their edges, but not shading edges inside a surface.
+ */
+#ifndef ptvDenoiser_h
+#define ptvDenoiser_h
+
+#include "ptvBilateralGridCpu.h"
+#include "ptvGuideNetSession.h"
+
+#include <string>
+#include <vector>
+
+namespace ptv
+{
+struct DenoiserSettings
+{
+  std::string ModelFile; ///< empty: the shipped model (vtkPTVGuideNet::GetDefaultModelFile())
+  bool UseNetwork = true; ///< false: always the fixed guide
+  int Levels = 0;         ///< 0: the model's (3 for the fixed guide); 1..3, <= the model's
+  double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
+  int Threads = 0;        ///< <= 0: every core
+};
+
+struct DenoiserTimings
+{
+  double Features = 0, GuideNet = 0, Splat = 0, Slice = 0; ///< ms of the last Run
+};
+
+class Denoiser
+{
+public:
+  /**
+   * Denoise a @a width x @a height frame from @a passes (indexed by PassId, interleaved, nullptr
+   * for a missing pass) into @a out (width * height * 3). Returns false with @a error for
+   * unusable input (missing Radiance/Albedo, zero size); a model that cannot be used is not an
+   * error: the fixed guide takes over and TakeWarning() says why, once.
+   */
+  bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
+    float* out, std::string& error);
+
+  /// Whether the last Run used GuideNet (else the fixed guide).
+  bool GetNetworkActive() const { return this->NetworkActive; }
+  /// e.g. "GuideNet <file> (CPUExecutionProvider), 3 levels" or "fixed guide: <why>".
+  const std::string& GetStatus() const { return this->Status; }
+  /// A warning produced by the last Run that was not taken yet (empty if none).
+  std::string TakeWarning();
+
+  int GetLevels() const { return this->Levels; }
+  /// Guides of the last Run, interleaved width * height * GetLevels(), in [0, 255].
+  const std::vector<float>& GetGuides() const { return this->Guides; }
+  /// Blend weights, interleaved width * height * (GetLevels() - 1).
+  const std::vector<float>& GetWeights() const { return this->Weights; }
+  const DenoiserTimings& GetTimings() const { return this->Timings; }
+
+private:
+  bool EnsureModel(const DenoiserSettings& settings);
+
+  GuideNetSession Session;
+  std::string RequestedModel; // the path of the last load attempt
+  std::string ModelProblem;   // why the model is not usable ("" = loaded)
+  int SessionThreads = -1;
+  BilateralGridCpu Grid;
+  std::vector<float> Features, NetOutput, Guides, Weights;
+  int Levels = 0;
+  bool NetworkActive = false;
+  std::string Status, Warning, LastWarned;
+  DenoiserTimings Timings;
+};
+}
+
+#endif
