@@ -221,8 +221,8 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   {
     return 1.f;
   }
-  const float tStart = fmaxf(tEnter, 0.f);
-  const float tEnd = fminf(tExit, tMax);
+  const float tStart = Max(tEnter, 0.f);
+  const float tEnd = Min(tExit, tMax);
   const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
   float T = 1.f;
   int k = 0;
@@ -304,8 +304,8 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
   Vec3 f;
   if (shaded)
   {
-    const float ndl = fmaxf(0.f, Dot(n, l));
-    const float ndh = fmaxf(0.f, Dot(n, Normalize(l - dir)));
+    const float ndl = Max(0.f, Dot(n, l));
+    const float ndh = Max(0.f, Dot(n, Normalize(l - dir)));
     const float spec = ndh > 0.f ? p.Specular * powf(ndh, p.SpecularPower) : 0.f;
     f = c * (p.Diffuse * ndl) + MakeVec3(spec, spec, spec);
   }
@@ -365,8 +365,8 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
   {
     return out;
   }
-  const float tStart = fmaxf(tEnter, 0.f);
-  const float tEnd = p.MaxDistance ? fminf(tExit, p.MaxDistance[pixel]) : tExit;
+  const float tStart = Max(tEnter, 0.f);
+  const float tEnd = p.MaxDistance ? Min(tExit, p.MaxDistance[pixel]) : tExit;
   if (!(tStart < tEnd))
   {
     return out;

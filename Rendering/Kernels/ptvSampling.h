@@ -55,7 +55,7 @@ PTV_HD PTV_INLINE Vec3 SampleCosineHemisphereLocal(float u1, float u2)
 {
   float dx, dy;
   SampleUniformDiskConcentric(u1, u2, dx, dy);
-  const float dz = sqrtf(fmaxf(0.f, 1.f - dx * dx - dy * dy));
+  const float dz = sqrtf(Max(0.f, 1.f - dx * dx - dy * dy));
   return MakeVec3(dx, dy, dz);
 }
 
@@ -77,7 +77,7 @@ PTV_HD PTV_INLINE Vec3 SampleCosineHemisphere(Vec3 n, float u1, float u2)
 PTV_HD PTV_INLINE Vec3 SampleUniformSphere(float u1, float u2)
 {
   const float z = 1.f - 2.f * u1;
-  const float r = sqrtf(fmaxf(0.f, 1.f - z * z));
+  const float r = sqrtf(Max(0.f, 1.f - z * z));
   const float phi = 2.f * kPi * u2;
   return MakeVec3(r * cosf(phi), r * sinf(phi), z);
 }

@@ -143,8 +143,8 @@ PTV_HD PTV_INLINE bool ClipSlab(float o, float d, float lo, float hi, float& t0,
     ta = tb;
     tb = tmp;
   }
-  t0 = fmaxf(t0, ta);
-  t1 = fminf(t1, tb);
+  t0 = Max(t0, ta);
+  t1 = Min(t1, tb);
   return t0 <= t1;
 }
 
