@@ -6,6 +6,7 @@ dataset's two-band preset), shading and camera in the same run. Each figure is t
 --repeats timed renders after one warm-up. Our frames are forced to be fresh 1-spp frames by
 changing the seed before each render (an unchanged view would only accumulate).
 
+Our mapper runs with Denoise off (the denoiser is measured by benchmark_denoiser.py).
 Reported per row: whole-render time of each mapper (window.Render(), so both include drawing),
 our trace time alone, samples (pixels) per second, the ratio ours/stock, and our 1- vs 2-thread
 trace times (scaling).
@@ -56,6 +57,7 @@ def build_scene(dataset: str, size: int):
     prop.SetInterpolationTypeToLinear()
 
     ours = vtkPathTracedVolumeMapper()
+    ours.DenoiseOff()  # the tracer against the stock mapper; the denoiser has its own benchmark
     stock = vtkFixedPointVolumeRayCastMapper()
     stock.SetAutoAdjustSampleDistances(0)  # full quality, as ours
     for mapper in (ours, stock):
