@@ -39,7 +39,7 @@ ORT_DEV_VERSION=1.21.0+dfsg-1
 ORT_DEV_SHA256=14f7d959d5deacbcf1504830d4189f91fc67382b399ed9ae9d3aa9c4050ced08
 CUDA_PKGS=(nvidia-cuda-nvcc==13.0.88 nvidia-nvvm==13.0.88 nvidia-cuda-crt==13.0.88
            nvidia-cuda-runtime==13.0.96 nvidia-cuda-cccl==13.0.85)
-PIP_PKGS=("onnxruntime==$ORT_VERSION" pytest==8.3.3 tqdm==4.67.1)
+PIP_PKGS=("onnxruntime==$ORT_VERSION" pytest==8.3.3 tqdm==4.67.1 pyoidn==2.5.1.0 OpenEXR==3.3.5)
 
 APT_PKGS=(paraview paraview-dev python3-paraview libopenvdb-dev libopenexr-dev xvfb xauth
   libgl1-mesa-dri python3-torch python3-onnx python3-numpy python3-matplotlib python3-skimage
