@@ -82,6 +82,9 @@ public:
     int width, int height, const std::vector<float>& zbuffer, TraceParams& params,
     FrameSignature& signature, std::string& error);
 
+  /// Changes whenever the float copy of the voxels is rebuilt (device copies key on it).
+  unsigned long long GetVolumeVersion() const { return this->VolumeTime; }
+
   /// World-space axis-aligned bounds of the volume (valid after Build()).
   const double* GetWorldBounds() const { return this->WorldBounds; }
 

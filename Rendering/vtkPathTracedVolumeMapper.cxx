@@ -2,6 +2,7 @@
 
 #include "ptvCpuTracer.h"
 #include "ptvCudaDevice.h"
+#include "ptvCudaTracer.h"
 #include "ptvDenoiser.h"
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
@@ -32,6 +33,9 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   ptv::PassBuffers Frame;
   ptv::PassBuffers Accumulated;
   ptv::Denoiser Denoiser;
+  ptv::CudaTracer Cuda;
+  std::string ActiveBackend = "none";
+  std::string BackendMessage; // the last backend problem reported (reported once)
   std::vector<float> DenoiseOutput;
   bool DenoisedValid = false;       // the Denoised/Guides/BlendWeights passes match the frame
   std::vector<std::string> DenoiseKey; // settings of the last denoise
@@ -158,6 +162,12 @@ int vtkPathTracedVolumeMapper::GetNumberOfPasses()
 const char* vtkPathTracedVolumeMapper::GetPassName(int index)
 {
   return (index >= 0 && index < ptv::PassCount) ? ptv::GetPassInfo(index).Name : nullptr;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::GetActiveBackend()
+{
+  return this->Internals->ActiveBackend.c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -315,8 +325,28 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     in.Accumulated.Resize(width, height);
     const unsigned int firstSample =
       static_cast<unsigned int>(this->AccumulatedFrames) * this->SamplesPerFrame;
-    ptv::TraceFrameCpu(
-      in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads, in.Frame);
+    std::string message;
+    int backend = ptv::ResolveBackend(this->Backend,
+      vtkPathTracedVolumeMapper::GetCudaAvailable(), vtkPathTracedVolumeMapper::GetCudaStatus(),
+      message);
+    if (backend == ptv::BackendCuda &&
+      !in.Cuda.Trace(in.Params, in.Inputs.GetVolumeVersion(), firstSample,
+        this->SamplesPerFrame, in.Frame, message))
+    {
+      message = "CUDA tracing failed (" + message + "); tracing on the CPU";
+      backend = ptv::BackendCpu;
+    }
+    if (!message.empty() && message != in.BackendMessage)
+    {
+      vtkErrorMacro(<< message);
+    }
+    in.BackendMessage = message;
+    if (backend == ptv::BackendCpu)
+    {
+      ptv::TraceFrameCpu(
+        in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads, in.Frame);
+    }
+    in.ActiveBackend = backend == ptv::BackendCuda ? "CUDA" : "CPU";
     ++this->AccumulatedFrames;
     in.Accumulated.Accumulate(in.Frame, this->AccumulatedFrames);
     this->LastTraceTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
@@ -452,6 +482,7 @@ void vtkPathTracedVolumeMapper::DenoiseFrame(int width, int height)
 void vtkPathTracedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
   this->Internals->Display.ReleaseGraphicsResources(window);
+  this->Internals->Cuda.Release();
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
@@ -481,6 +512,8 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
      << "\n";
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
-  os << indent << "Backend: CPU (vtkSMPTools)\n";
+  os << indent << "Backend: "
+     << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
+     << " (last frame: " << this->Internals->ActiveBackend << ")\n";
   os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
 }

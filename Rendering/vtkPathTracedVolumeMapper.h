@@ -208,6 +208,28 @@ public:
 
   ///@{
   /**
+   * Where frames are traced: BACKEND_AUTO (default: CUDA when this build has it and a usable
+   * device exists, else the CPU), BACKEND_CPU, or BACKEND_CUDA (without a usable device: an
+   * error naming why, then the CPU). Both run the same kernel; GetActiveBackend() tells which
+   * traced the last frame.
+   */
+  enum
+  {
+    BACKEND_AUTO = 0,
+    BACKEND_CPU = 1,
+    BACKEND_CUDA = 2
+  };
+  vtkSetClampMacro(Backend, int, BACKEND_AUTO, BACKEND_CUDA);
+  vtkGetMacro(Backend, int);
+  void SetBackendToAuto() { this->SetBackend(BACKEND_AUTO); }
+  void SetBackendToCPU() { this->SetBackend(BACKEND_CPU); }
+  void SetBackendToCUDA() { this->SetBackend(BACKEND_CUDA); }
+  /// "CPU" or "CUDA": the backend of the last traced frame ("none" before the first).
+  const char* GetActiveBackend();
+  ///@}
+
+  ///@{
+  /**
    * Whether this build has the CUDA path and the machine has a usable CUDA device, and a
    * one-line report (e.g. "built without CUDA ..." or "no usable CUDA device (error 35 ...)").
    * Frames are traced on the CPU today; the CUDA tracer uses this to choose its backend.
@@ -252,6 +274,7 @@ protected:
   double EnvironmentIntensity = 1.0;
   bool EmptySpaceSkipping = true;
   int NumberOfThreads = 0;
+  int Backend = BACKEND_AUTO;
   bool Denoise = true;
   char* DenoiserModelFile = nullptr;
   bool DenoiserUseNetwork = true;

@@ -116,6 +116,34 @@ struct PixelSample
   Vec3 Normal2;
 };
 
+/// acc += s, field by field (averaging several samples of a pixel: CPU and CUDA drivers).
+PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
+{
+  acc.Radiance = acc.Radiance + s.Radiance;
+  acc.Alpha += s.Alpha;
+  acc.Albedo = acc.Albedo + s.Albedo;
+  acc.Depth1 += s.Depth1;
+  acc.Position1 = acc.Position1 + s.Position1;
+  acc.Normal1 = acc.Normal1 + s.Normal1;
+  acc.Depth2 += s.Depth2;
+  acc.Position2 = acc.Position2 + s.Position2;
+  acc.Normal2 = acc.Normal2 + s.Normal2;
+}
+
+/// acc *= w, field by field.
+PTV_HD PTV_INLINE void ScaleSample(PixelSample& acc, float w)
+{
+  acc.Radiance = acc.Radiance * w;
+  acc.Alpha *= w;
+  acc.Albedo = acc.Albedo * w;
+  acc.Depth1 *= w;
+  acc.Position1 = acc.Position1 * w;
+  acc.Normal1 = acc.Normal1 * w;
+  acc.Depth2 *= w;
+  acc.Position2 = acc.Position2 * w;
+  acc.Normal2 = acc.Normal2 * w;
+}
+
 constexpr float kRouletteThreshold = 0.05f;
 
 /// Ray parameter of march sample k; the single expression every march uses.
@@ -419,6 +447,28 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
     ++k;
   }
   return out;
+}
+
+/**
+ * Mean of @a samples samples of pixel (x, y) with sample (frame) indices firstSample,
+ * firstSample + 1, ...: what one frame of SamplesPerFrame stores. Both drivers (CPU, CUDA) call
+ * this, so a frame is the same on either.
+ */
+PTV_HD PTV_INLINE PixelSample TracePixelMean(
+  TraceParams p, uint32_t firstSample, int samples, int x, int y)
+{
+  p.Frame = firstSample;
+  PixelSample acc = TracePixel(p, x, y);
+  for (int s = 1; s < samples; ++s)
+  {
+    p.Frame = firstSample + static_cast<uint32_t>(s);
+    AddSample(acc, TracePixel(p, x, y));
+  }
+  if (samples > 1)
+  {
+    ScaleSample(acc, 1.f / static_cast<float>(samples));
+  }
+  return acc;
 }
 }
 

@@ -1,0 +1,191 @@
+// The CUDA driver behind ptvCudaTracer.h: one thread per pixel running TracePixelMean, the same
+// kernel body the CPU driver runs (Kernels/ptvIntegrator.h).
+#include "../ptvCudaTracer.h"
+#include "../ptvPassBuffers.h"
+
+#include <cuda_runtime.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace ptv
+{
+namespace
+{
+__global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples,
+  PixelSample* out)
+{
+  const int x = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+  const int y = static_cast<int>(blockIdx.y * blockDim.y + threadIdx.y);
+  if (x >= p.Camera.Width || y >= p.Camera.Height)
+  {
+    return;
+  }
+  out[static_cast<std::size_t>(y) * p.Camera.Width + x] =
+    TracePixelMean(p, firstSample, samples, x, y);
+}
+
+/// One explicit device allocation, grown when needed and reused across frames.
+struct DeviceBuffer
+{
+  void* Ptr = nullptr;
+  std::size_t Bytes = 0;
+
+  cudaError_t Fit(std::size_t bytes)
+  {
+    if (this->Ptr && bytes <= this->Bytes)
+    {
+      return cudaSuccess;
+    }
+    this->Free();
+    const cudaError_t e = cudaMalloc(&this->Ptr, bytes > 0 ? bytes : 1);
+    if (e != cudaSuccess)
+    {
+      this->Ptr = nullptr;
+      return e;
+    }
+    this->Bytes = bytes;
+    return cudaSuccess;
+  }
+
+  void Free()
+  {
+    if (this->Ptr)
+    {
+      cudaFree(this->Ptr);
+    }
+    this->Ptr = nullptr;
+    this->Bytes = 0;
+  }
+};
+}
+
+struct CudaTracer::Internals
+{
+  DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance, Samples;
+  unsigned long long VolumeVersion = ~0ull;
+  const float* VolumeHost = nullptr;
+  std::vector<PixelSample> Host;
+};
+
+//------------------------------------------------------------------------------
+CudaTracer::CudaTracer()
+  : Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+CudaTracer::~CudaTracer()
+{
+  this->Release();
+}
+
+//------------------------------------------------------------------------------
+void CudaTracer::Release()
+{
+  Internals& in = *this->Impl;
+  for (DeviceBuffer* b : { &in.Scalars, &in.Table, &in.Gradient, &in.Bricks, &in.MaxDistance,
+         &in.Samples })
+  {
+    b->Free();
+  }
+  in.VolumeVersion = ~0ull;
+  in.VolumeHost = nullptr;
+}
+
+//------------------------------------------------------------------------------
+bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersion,
+  unsigned int firstSample, int samples, PassBuffers& out, std::string& error)
+{
+  Internals& in = *this->Impl;
+  auto ok = [&error](cudaError_t e, const char* what)
+  {
+    if (e == cudaSuccess)
+    {
+      return true;
+    }
+    error = std::string("CUDA ") + what + ": " + cudaGetErrorString(e);
+    cudaGetLastError(); // clear the error state
+    return false;
+  };
+  auto upload = [&ok](DeviceBuffer& b, const void* host, std::size_t bytes, const char* what)
+  {
+    return ok(b.Fit(bytes), what) &&
+      ok(cudaMemcpy(b.Ptr, host, bytes, cudaMemcpyHostToDevice), what);
+  };
+
+  TraceParams d = params;
+  const int* dims = params.Volume.Dims;
+  const std::size_t voxels =
+    static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * dims[2];
+  if (volumeVersion != in.VolumeVersion || params.Volume.Scalars != in.VolumeHost)
+  {
+    if (!upload(in.Scalars, params.Volume.Scalars, voxels * sizeof(float), "volume upload"))
+    {
+      return false;
+    }
+    in.VolumeVersion = volumeVersion;
+    in.VolumeHost = params.Volume.Scalars;
+  }
+  d.Volume.Scalars = static_cast<const float*>(in.Scalars.Ptr);
+  if (!upload(in.Table, params.Transfer.RGBA, 4 * sizeof(float) * params.Transfer.Size,
+        "transfer table upload"))
+  {
+    return false;
+  }
+  d.Transfer.RGBA = static_cast<const float*>(in.Table.Ptr);
+  if (params.Transfer.GradientOpacity)
+  {
+    if (!upload(in.Gradient, params.Transfer.GradientOpacity,
+          sizeof(float) * params.Transfer.GradientSize, "gradient table upload"))
+    {
+      return false;
+    }
+    d.Transfer.GradientOpacity = static_cast<const float*>(in.Gradient.Ptr);
+  }
+  if (params.Occupancy.Occupied)
+  {
+    const int* b = params.Occupancy.Bricks;
+    const std::size_t bricks = static_cast<std::size_t>(b[0]) * b[1] * b[2];
+    if (!upload(in.Bricks, params.Occupancy.Occupied, bricks, "occupancy upload"))
+    {
+      return false;
+    }
+    d.Occupancy.Occupied = static_cast<const uint8_t*>(in.Bricks.Ptr);
+  }
+  const int w = params.Camera.Width, h = params.Camera.Height;
+  const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (params.MaxDistance)
+  {
+    if (!upload(in.MaxDistance, params.MaxDistance, pixels * sizeof(float), "depth upload"))
+    {
+      return false;
+    }
+    d.MaxDistance = static_cast<const float*>(in.MaxDistance.Ptr);
+  }
+  if (!ok(in.Samples.Fit(pixels * sizeof(PixelSample)), "sample buffer"))
+  {
+    return false;
+  }
+  const dim3 block(16, 8);
+  const dim3 grid((w + block.x - 1) / block.x, (h + block.y - 1) / block.y);
+  TraceKernel<<<grid, block>>>(
+    d, firstSample, samples, static_cast<PixelSample*>(in.Samples.Ptr));
+  if (!ok(cudaGetLastError(), "kernel launch"))
+  {
+    return false;
+  }
+  in.Host.resize(pixels);
+  if (!ok(cudaMemcpy(in.Host.data(), in.Samples.Ptr, pixels * sizeof(PixelSample),
+            cudaMemcpyDeviceToHost),
+        "sample download"))
+  {
+    return false;
+  }
+  for (std::size_t i = 0; i < pixels; ++i)
+  {
+    out.Store(static_cast<int>(i), in.Host[i]);
+  }
+  return true;
+}
+}

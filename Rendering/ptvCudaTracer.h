@@ -1,0 +1,79 @@
+/**
+ * @file ptvCudaTracer.h
+ * @brief Private: the CUDA driver -- the same TracePixelMean (Kernels/ptvIntegrator.h) as the CPU
+ *        driver, launched once per pixel, with the volume and tables in device memory.
+ *
+ * Explicit device allocations (no managed memory), reused across frames; the voxels are
+ * uploaded again only when @a volumeVersion or the host pointer changes. Built from
+ * Cuda/ptvCudaTracer.cu when PTV_ENABLE_CUDA is on; otherwise Trace() reports "built without
+ * CUDA". No CUDA type appears here.
+ */
+#ifndef ptvCudaTracer_h
+#define ptvCudaTracer_h
+
+#include "Kernels/ptvIntegrator.h"
+
+#include <memory>
+#include <string>
+
+namespace ptv
+{
+class PassBuffers;
+
+class CudaTracer
+{
+public:
+  CudaTracer();
+  ~CudaTracer();
+  CudaTracer(const CudaTracer&) = delete;
+  CudaTracer& operator=(const CudaTracer&) = delete;
+
+  /**
+   * Trace one frame like TraceFrameCpu() into @a out. Returns false with the CUDA error in
+   * @a error (the caller falls back to the CPU).
+   */
+  bool Trace(const TraceParams& params, unsigned long long volumeVersion, unsigned int firstSample,
+    int samples, PassBuffers& out, std::string& error);
+
+  /// Free the device memory.
+  void Release();
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+/// Backends of vtkPathTracedVolumeMapper::SetBackend.
+enum BackendChoice
+{
+  BackendAuto = 0,
+  BackendCpu = 1,
+  BackendCuda = 2
+};
+
+/**
+ * The backend that runs for a @a requested one: CUDA when CUDA (or Auto) is requested and a
+ * device is available, else the CPU. A CUDA request that cannot be honoured sets @a message
+ * (the caller reports it as an error and renders on the CPU); otherwise @a message is cleared.
+ */
+inline int ResolveBackend(
+  int requested, bool cudaAvailable, const std::string& cudaStatus, std::string& message)
+{
+  message.clear();
+  if (requested == BackendCpu)
+  {
+    return BackendCpu;
+  }
+  if (cudaAvailable)
+  {
+    return BackendCuda;
+  }
+  if (requested == BackendCuda)
+  {
+    message = "the CUDA backend was requested but " + cudaStatus + "; tracing on the CPU";
+  }
+  return BackendCpu;
+}
+}
+
+#endif

@@ -1,0 +1,123 @@
+// Backend choice (CPU-side logic, runs everywhere): the decision table, and on this machine a
+// CUDA request without a usable device gives one clear error and the CPU image, bit for bit.
+#include "ptvCudaTracer.h"
+
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPathTracedVolumeMapper.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRTAnalyticSource.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTestErrorObserver.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+int failures = 0;
+void Check(bool ok, const std::string& what)
+{
+  std::cout << (ok ? "ok   " : "FAIL ") << what << "\n";
+  failures += ok ? 0 : 1;
+}
+
+std::vector<float> RenderRadiance(int backend, vtkTest::ErrorObserver* errors, std::string& used)
+{
+  vtkNew<vtkRTAnalyticSource> source;
+  source->SetWholeExtent(-10, 10, -10, 10, -10, 10);
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(37, 0.2, 0.4, 1.0);
+  color->AddRGBPoint(277, 1.0, 0.9, 0.5);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(37, 0.0);
+  opacity->AddPoint(277, 0.7);
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+  property->ShadeOn();
+  vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->SetInputConnection(source->GetOutputPort());
+  mapper->DenoiseOff();
+  mapper->SetBackend(backend);
+  mapper->AddObserver(vtkCommand::ErrorEvent, errors);
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(mapper);
+  volume->SetProperty(property);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddVolume(volume);
+  renderer->ResetCamera();
+  vtkNew<vtkRenderWindow> window;
+  window->SetSize(40, 30);
+  window->AddRenderer(renderer);
+  window->Render();
+  window->Render();
+  used = mapper->GetActiveBackend();
+  vtkNew<vtkImageData> image;
+  if (!mapper->GetPass("Radiance", image))
+  {
+    return {};
+  }
+  auto* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
+  return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+}
+}
+
+int TestPTVBackend(int, char*[])
+{
+  using ptv::ResolveBackend;
+  std::string m;
+  Check(ResolveBackend(ptv::BackendCpu, true, "x", m) == ptv::BackendCpu && m.empty(),
+    "CPU requested, device present: CPU");
+  Check(ResolveBackend(ptv::BackendCpu, false, "x", m) == ptv::BackendCpu && m.empty(),
+    "CPU requested, no device: CPU");
+  Check(ResolveBackend(ptv::BackendAuto, true, "x", m) == ptv::BackendCuda && m.empty(),
+    "Auto, device present: CUDA");
+  Check(ResolveBackend(ptv::BackendAuto, false, "x", m) == ptv::BackendCpu && m.empty(),
+    "Auto, no device: CPU, silently");
+  Check(ResolveBackend(ptv::BackendCuda, true, "x", m) == ptv::BackendCuda && m.empty(),
+    "CUDA requested, device present: CUDA");
+  Check(ResolveBackend(ptv::BackendCuda, false, "no driver (error 35)", m) == ptv::BackendCpu &&
+      m.find("no driver (error 35)") != std::string::npos,
+    "CUDA requested, no device: CPU with a message naming why");
+
+  const bool cuda = vtkPathTracedVolumeMapper::GetCudaAvailable();
+  std::cout << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
+  vtkNew<vtkTest::ErrorObserver> cpuErrors, autoErrors, cudaErrors;
+  std::string cpuUsed, autoUsed, cudaUsed;
+  const auto cpu =
+    RenderRadiance(vtkPathTracedVolumeMapper::BACKEND_CPU, cpuErrors, cpuUsed);
+  const auto automatic =
+    RenderRadiance(vtkPathTracedVolumeMapper::BACKEND_AUTO, autoErrors, autoUsed);
+  const auto requested =
+    RenderRadiance(vtkPathTracedVolumeMapper::BACKEND_CUDA, cudaErrors, cudaUsed);
+  Check(cpuUsed == "CPU" && !cpuErrors->GetError(), "CPU backend renders on the CPU");
+  Check(!autoErrors->GetError(), "Auto never errors");
+  Check(autoUsed == (cuda ? "CUDA" : "CPU"), "Auto picks " + autoUsed);
+  if (!cuda)
+  {
+    Check(cudaUsed == "CPU", "CUDA without a device renders on the CPU");
+    const std::string text = cudaErrors->GetErrorMessage();
+    const std::string key = "the CUDA backend was requested but";
+    std::size_t count = 0;
+    for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1))
+    {
+      ++count;
+    }
+    Check(count == 1, "CUDA without a device: one error over two frames, naming the request (" +
+        std::to_string(count) + ")");
+    Check(!cpu.empty() && requested == cpu && automatic == cpu,
+      "the fallback image is the CPU image, bit for bit");
+  }
+  return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
