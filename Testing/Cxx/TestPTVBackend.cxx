@@ -1,5 +1,6 @@
 // Backend choice (CPU-side logic, runs everywhere): the decision table, and on this machine a
 // CUDA request without a usable device gives one clear error and the CPU image, bit for bit.
+#include "ptvTestCheck.h"
 #include "ptvCudaTracer.h"
 
 #include "vtkCamera.h"
@@ -25,12 +26,6 @@
 
 namespace
 {
-int failures = 0;
-void Check(bool ok, const std::string& what)
-{
-  std::cout << (ok ? "ok   " : "FAIL ") << what << "\n";
-  failures += ok ? 0 : 1;
-}
 
 std::vector<float> RenderRadiance(int backend, vtkTest::ErrorObserver* errors, std::string& used)
 {
@@ -119,5 +114,5 @@ int TestPTVBackend(int, char*[])
     Check(!cpu.empty() && requested == cpu && automatic == cpu,
       "the fallback image is the CPU image, bit for bit");
   }
-  return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return TestResult();
 }

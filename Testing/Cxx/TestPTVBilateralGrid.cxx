@@ -9,6 +9,7 @@
 //      put and the output's "Denoised" array (and its memory) is reused.
 // The semantics themselves are checked against the torch reference and a brute-force evaluation
 // of the definitions in Testing/Python/test_bilateral_grid.py.
+#include "ptvTestCheck.h"
 #include "ptvBilateralGridCpu.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
@@ -30,16 +31,6 @@
 
 namespace
 {
-int failures = 0;
-
-void Check(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAILED: " << what << "\n";
-    ++failures;
-  }
-}
 
 // A W x H x 1 image whose active scalars are a float array with the given values.
 vtkSmartPointer<vtkImageData> MakeImage(

@@ -5,6 +5,7 @@
 //  - images are bit-identical with 1 and 2 threads, and with and without empty-space skipping;
 //  - bad input (NaN voxels, empty volume, one voxel, multi-component scalars, camera inside the
 //    volume, zero-size viewport) gives the documented error or behaviour and never crashes.
+#include "ptvTestCheck.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
@@ -35,12 +36,6 @@
 
 namespace
 {
-int failures = 0;
-void Check(bool ok, const std::string& what)
-{
-  std::cout << (ok ? "ok   " : "FAIL ") << what << "\n";
-  failures += ok ? 0 : 1;
-}
 
 struct Scene
 {
@@ -345,5 +340,5 @@ int TestPTVMapperBehavior(int, char*[])
   TestDenoise();
   TestDeterminism();
   TestBadInput();
-  return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return TestResult();
 }

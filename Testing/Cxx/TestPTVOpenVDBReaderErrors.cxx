@@ -6,6 +6,7 @@
 //           rotated / frustum transforms (the message names the map type), empty grid.
 //   writer: no input, no scalars, short scalars, 3-component scalars, non-uniform spacing,
 //           rotated direction matrix, unwritable folder.
+#include "ptvTestCheck.h"
 #include "ptvOpenVDBGrid.h"
 #include "vtkCommand.h"
 #include "vtkExecutive.h"
@@ -33,25 +34,6 @@
 
 namespace
 {
-int failures = 0;
-
-void Check(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAILED: " << what << "\n";
-    ++failures;
-  }
-}
-
-std::string TempDir(int argc, char* argv[])
-{
-  char* dir = vtkTestUtilities::GetArgOrEnvOrDefault("-T", argc, argv, "PTV_TEST_TEMP", ".");
-  std::string result = dir;
-  delete[] dir;
-  vtksys::SystemTools::MakeDirectory(result);
-  return result;
-}
 
 // Observes errors and warnings of an algorithm and of its executive.
 struct Observed

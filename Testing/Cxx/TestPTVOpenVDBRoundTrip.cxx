@@ -8,6 +8,7 @@
 //     read just their part.
 //  4. grid listing: files with two scalar grids and with a vec3s grid listed before a scalar one;
 //     default grid selection, GridName selection, CanReadFile.
+#include "ptvTestCheck.h"
 #include "ptvOpenVDBGrid.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -36,25 +37,6 @@
 
 namespace
 {
-int failures = 0;
-
-void Check(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAILED: " << what << "\n";
-    ++failures;
-  }
-}
-
-std::string TempDir(int argc, char* argv[])
-{
-  char* dir = vtkTestUtilities::GetArgOrEnvOrDefault("-T", argc, argv, "PTV_TEST_TEMP", ".");
-  std::string result = dir;
-  delete[] dir;
-  vtksys::SystemTools::MakeDirectory(result);
-  return result;
-}
 
 // An image of @a type (VTK_FLOAT or VTK_DOUBLE) whose point (i, j, k) (structured indices within
 // @a extent) holds f(i, j, k) in a point-data array named @a name, set as active scalars.

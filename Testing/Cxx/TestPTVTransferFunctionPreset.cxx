@@ -1,6 +1,7 @@
 // Every shipped preset file loads; the paper's two-band presets are exact boxes (opacity 0.7
 // with colour (1,1,0) in the outer band, 1.0 with (1,1,1) in the inner band, 0 elsewhere);
 // malformed files and unknown names give errors that name the problem.
+#include "ptvTestCheck.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
 #include "vtkNew.h"
@@ -19,15 +20,6 @@
 
 namespace
 {
-int failures = 0;
-void Check(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAILED: " << what << "\n";
-    ++failures;
-  }
-}
 
 // Check a two-band preset: sample the opacity function densely; every sample is 0, 0.7 or 1.0
 // except within a tiny edge width; 0.7 samples are yellow, 1.0 samples white.
@@ -151,5 +143,5 @@ int TestPTVTransferFunctionPreset(int argc, char* argv[])
   Check(errors->CheckErrorMessage("'nope'") == 0, "unknown-preset error names it");
   Check(bad->GetPresetName(5) == nullptr, "out-of-range index gives nullptr");
 
-  return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return TestResult();
 }
