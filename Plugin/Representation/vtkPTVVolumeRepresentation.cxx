@@ -1,0 +1,223 @@
+#include "vtkPTVVolumeRepresentation.h"
+
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVLODVolume.h"
+#include "vtkPVRenderView.h"
+#include "vtkPathTracedVolumeMapper.h"
+#include "vtkRectilinearGrid.h"
+
+#include <cstring>
+
+vtkStandardNewMacro(vtkPTVVolumeRepresentation);
+
+//------------------------------------------------------------------------------
+vtkPTVVolumeRepresentation::vtkPTVVolumeRepresentation()
+{
+  // The base class made a vtkMultiBlockVolumeMapper; UpdateMapperParameters() (called by the
+  // base class on every render request) gives whatever VolumeMapper holds to the actor.
+  this->VolumeMapper.TakeReference(vtkPathTracedVolumeMapper::New());
+}
+
+//------------------------------------------------------------------------------
+vtkPTVVolumeRepresentation::~vtkPTVVolumeRepresentation() = default;
+
+//------------------------------------------------------------------------------
+vtkPathTracedVolumeMapper* vtkPTVVolumeRepresentation::GetPathTracedMapper()
+{
+  return vtkPathTracedVolumeMapper::SafeDownCast(this->VolumeMapper);
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    // After the base class has registered its pieces: only streamable representations are asked
+    // for streamed pieces by vtkSMRenderViewProxy::StreamingUpdate(). Always streamable, so that
+    // ProgressiveRefinement takes effect without a new update; it gates the pieces below.
+    vtkPVRenderView::SetStreamable(inInfo, this, true);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER() && this->UnsupportedInput)
+  {
+    // The base class has just connected the delivered data to the mapper: undo that, so the
+    // pipeline does not fail on every render.
+    this->VolumeMapper->RemoveAllInputConnections(0);
+    this->Actor->SetVisibility(false);
+  }
+  else if (request_type == vtkPVRenderView::REQUEST_STREAMING_UPDATE())
+  {
+    // A delivered piece makes StreamingUpdate(true) render the view once more, which traces the
+    // next frame. The piece itself is empty and ignored in REQUEST_PROCESS_STREAMED_PIECE.
+    if (this->ProgressiveRefinement && this->GetNeedsRefinement())
+    {
+      vtkPVRenderView::SetNextStreamedPiece(inInfo, this, this->RefinementToken);
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->UnsupportedInput = false;
+  if (inputVector[0]->GetNumberOfInformationObjects() == 1 &&
+    vtkRectilinearGrid::GetData(inputVector[0], 0))
+  {
+    this->UnsupportedInput = true;
+    vtkErrorMacro(<< "Path Traced Volume renders vtkImageData only, not vtkRectilinearGrid; "
+                  << "resample the data to an image (e.g. Resample To Image) first.");
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+bool vtkPTVVolumeRepresentation::GetNeedsRefinement()
+{
+  vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
+  return mapper && this->GetVisibility() && this->Actor->GetVisibility() &&
+    mapper->GetLastRenderTraced() &&
+    mapper->GetAccumulatedFrames() < mapper->GetMaximumAccumulatedFrames();
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetSamplesPerFrame(int value)
+{
+  this->GetPathTracedMapper()->SetSamplesPerFrame(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetMaximumAccumulatedFrames(int value)
+{
+  this->GetPathTracedMapper()->SetMaximumAccumulatedFrames(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetSeed(int value)
+{
+  this->GetPathTracedMapper()->SetSeed(static_cast<unsigned int>(value < 0 ? 0 : value));
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetScattering(bool value)
+{
+  this->GetPathTracedMapper()->SetScattering(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetAmbientOcclusion(bool value)
+{
+  this->GetPathTracedMapper()->SetAmbientOcclusion(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetUseRendererLight(bool value)
+{
+  this->GetPathTracedMapper()->SetUseRendererLight(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetLightIntensity(double value)
+{
+  this->GetPathTracedMapper()->SetLightIntensity(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetEnvironmentIntensity(double value)
+{
+  this->GetPathTracedMapper()->SetEnvironmentIntensity(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetEmptySpaceSkipping(bool value)
+{
+  this->GetPathTracedMapper()->SetEmptySpaceSkipping(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetNumberOfThreads(int value)
+{
+  this->GetPathTracedMapper()->SetNumberOfThreads(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDenoise(bool value)
+{
+  this->GetPathTracedMapper()->SetDenoise(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDenoiserModelFile(const char* path)
+{
+  this->GetPathTracedMapper()->SetDenoiserModelFile(path && *path ? path : nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDenoiserUseNetwork(bool value)
+{
+  this->GetPathTracedMapper()->SetDenoiserUseNetwork(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
+{
+  this->GetPathTracedMapper()->SetDenoiserNumberOfLevels(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDisplayPass(const char* name)
+{
+  const bool useDefault = !name || !*name || std::strcmp(name, "Default") == 0;
+  this->GetPathTracedMapper()->SetDisplayPass(useDefault ? nullptr : name);
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPTVVolumeRepresentation::GetDisplayPass()
+{
+  const char* name = this->GetPathTracedMapper()->GetDisplayPass();
+  return name && *name ? name : "Default";
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetProgressiveRefinement(bool value)
+{
+  // Not Modified(): that would re-execute the representation's pipeline for nothing.
+  this->ProgressiveRefinement = value;
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::GetAccumulatedFrames()
+{
+  return this->GetPathTracedMapper()->GetAccumulatedFrames();
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::GetLastRenderTraced()
+{
+  return this->GetPathTracedMapper()->GetLastRenderTraced() ? 1 : 0;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPTVVolumeRepresentation::GetDenoiserStatus()
+{
+  return this->GetPathTracedMapper()->GetDenoiserStatus();
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << endl;
+  os << indent << "UnsupportedInput: " << this->UnsupportedInput << endl;
+  os << indent << "DisplayPass: " << this->GetDisplayPass() << endl;
+  os << indent << "PathTracedMapper:" << endl;
+  this->GetPathTracedMapper()->PrintSelf(os, indent.GetNextIndent());
+}

@@ -1,0 +1,135 @@
+/**
+ * @class vtkPTVVolumeRepresentation
+ * @brief ParaView representation that volume-renders image data with vtkPathTracedVolumeMapper.
+ *
+ * A vtkImageVolumeRepresentation whose volume mapper is a vtkPathTracedVolumeMapper, in the way
+ * ParaView's NVIDIA IndeX plugin replaces the mapper of the same base class. Everything the base
+ * class does is kept: data delivery, the scalar array and scalar mode, the colour and scalar
+ * opacity functions, the vtkVolumeProperty (shading coefficients, ScalarOpacityUnitDistance,
+ * interpolation) and the outline used where the data is not present. The server-manager proxy is
+ * "PathTracedVolumeRepresentation" (Plugin/PathTracedVolumeRepresentation.xml), offered as the
+ * "Path Traced Volume" representation type of image data.
+ *
+ * The Set methods below forward one mapper setting each; see vtkPathTracedVolumeMapper for their
+ * meaning, defaults and ranges. They do not re-execute the representation's pipeline: the mapper
+ * decides whether a setting restarts its accumulation.
+ *
+ * Progressive refinement: ParaView renders only when something changes, so on its own the mapper
+ * traces one frame per render. With ProgressiveRefinement on (default), the representation marks
+ * itself streamable and, on each streaming pass (vtkPVRenderView::REQUEST_STREAMING_UPDATE), hands
+ * the view an empty "piece" while the mapper is still accumulating. The view then renders again
+ * (vtkSMRenderViewProxy::StreamingUpdate), which traces the next frame, until
+ * MaximumAccumulatedFrames is reached. The ParaView GUI drives these passes only when streaming
+ * is enabled (Settings > General > Enable Streaming); scripts call StreamingUpdate themselves.
+ *
+ * Only vtkImageData is rendered. A vtkRectilinearGrid input (which ParaView's image-data
+ * representation also takes) is reported as an error and shows nothing; resample it to an image
+ * first. Partitioned datasets get the base class's warning.
+ */
+#ifndef vtkPTVVolumeRepresentation_h
+#define vtkPTVVolumeRepresentation_h
+
+#include "vtkImageVolumeRepresentation.h"
+#include "vtkNew.h"                        // for vtkNew
+#include "vtkPTVParaViewViewsModule.h"     // for export macro
+
+class vtkImageData;
+class vtkPathTracedVolumeMapper;
+
+class VTKPTVPARAVIEWVIEWS_EXPORT vtkPTVVolumeRepresentation : public vtkImageVolumeRepresentation
+{
+public:
+  static vtkPTVVolumeRepresentation* New();
+  vtkTypeMacro(vtkPTVVolumeRepresentation, vtkImageVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Adds the streaming hooks used for progressive refinement to the base class's handling of
+   * the view requests.
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  ///@{
+  /**
+   * Forwarded to vtkPathTracedVolumeMapper (same names; see there for defaults and ranges).
+   * Seed is clamped to be non-negative; an empty DenoiserModelFile means the shipped model.
+   */
+  void SetSamplesPerFrame(int value);
+  void SetMaximumAccumulatedFrames(int value);
+  void SetSeed(int value);
+  void SetScattering(bool value);
+  void SetAmbientOcclusion(bool value);
+  void SetUseRendererLight(bool value);
+  void SetLightIntensity(double value);
+  void SetEnvironmentIntensity(double value);
+  void SetEmptySpaceSkipping(bool value);
+  void SetNumberOfThreads(int value);
+  void SetDenoise(bool value);
+  void SetDenoiserModelFile(const char* path);
+  void SetDenoiserUseNetwork(bool value);
+  void SetDenoiserNumberOfLevels(int value);
+  ///@}
+
+  ///@{
+  /**
+   * Pass shown in the view: a name from vtkPathTracedVolumeMapper::GetPassName(), or "Default"
+   * (or empty / nullptr) for the mapper's default (Denoised when Denoise is on, else Radiance).
+   */
+  void SetDisplayPass(const char* name);
+  const char* GetDisplayPass();
+  ///@}
+
+  ///@{
+  /**
+   * Keep asking the view for renders, through its streaming passes, until the mapper has
+   * accumulated MaximumAccumulatedFrames frames. Default on. Without streaming passes (the GUI
+   * with "Enable Streaming" off) it has no effect.
+   */
+  void SetProgressiveRefinement(bool value);
+  vtkGetMacro(ProgressiveRefinement, bool);
+  vtkBooleanMacro(ProgressiveRefinement, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Progress of the mapper, for information-only properties: frames averaged so far, whether the
+   * last render traced a frame (0 once converged), and what the denoiser last used.
+   */
+  int GetAccumulatedFrames();
+  int GetLastRenderTraced();
+  const char* GetDenoiserStatus();
+  ///@}
+
+  /**
+   * Whether another streaming pass would trace a new frame: the volume is shown, the last render
+   * traced a frame and fewer than MaximumAccumulatedFrames have been accumulated.
+   */
+  bool GetNeedsRefinement();
+
+  /// The mapper this representation renders with (owned by the representation).
+  vtkPathTracedVolumeMapper* GetPathTracedMapper();
+
+protected:
+  vtkPTVVolumeRepresentation();
+  ~vtkPTVVolumeRepresentation() override;
+
+  /**
+   * Notes whether the input is a vtkImageData; the base class also accepts vtkRectilinearGrid,
+   * which the path tracer cannot render (one error per update, and the volume is hidden).
+   */
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+  bool ProgressiveRefinement = true;
+  bool UnsupportedInput = false;
+
+  /// Empty image handed to the view as the "next streamed piece" while refinement goes on.
+  vtkNew<vtkImageData> RefinementToken;
+
+private:
+  vtkPTVVolumeRepresentation(const vtkPTVVolumeRepresentation&) = delete;
+  void operator=(const vtkPTVVolumeRepresentation&) = delete;
+};
+
+#endif
