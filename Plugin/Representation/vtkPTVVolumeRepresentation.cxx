@@ -149,6 +149,12 @@ void vtkPTVVolumeRepresentation::SetNumberOfThreads(int value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetBackend(int value)
+{
+  this->GetPathTracedMapper()->SetBackend(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoise(bool value)
 {
   this->GetPathTracedMapper()->SetDenoise(value);

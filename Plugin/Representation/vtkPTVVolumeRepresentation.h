@@ -65,6 +65,7 @@ public:
   void SetEnvironmentIntensity(double value);
   void SetEmptySpaceSkipping(bool value);
   void SetNumberOfThreads(int value);
+  void SetBackend(int value);
   void SetDenoise(bool value);
   void SetDenoiserModelFile(const char* path);
   void SetDenoiserUseNetwork(bool value);
