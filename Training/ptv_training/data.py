@@ -1,0 +1,118 @@
+"""Training samples from the generated views (``generate.py``): features, radiance, albedo and
+reference as tensors, the train/validation split, the 8 dihedral augmentations, metrics.
+
+A sample is one (view, spp) pair: the features of that spp's accumulated passes
+(:func:`ptv_training.features.build_features`), its radiance and albedo (the bilateral grid's
+data) and the view's reference radiance. Features are per-pixel formulas plus per-frame min/max,
+so flipping/rotating the image commutes with building them; normals and positions are
+world-space, so an image-space flip/rotation only permutes pixels and leaves their values alone.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+import torch
+
+from . import exr_io
+from .features import build_features
+
+Tensor = torch.Tensor
+
+
+def tonemap_np(x: np.ndarray) -> np.ndarray:
+    """``clip(max(0, x)^(1/2.2), 0, 1)``."""
+    return np.clip(np.power(np.maximum(np.asarray(x, np.float32), 0), 1 / 2.2), 0, 1)
+
+
+def tonemap(x: Tensor, eps: float = 1e-6) -> Tensor:
+    """Differentiable ``clip(max(0, x)^(1/2.2), 0, 1)`` (values below ``eps`` get no gradient,
+    which keeps the power's infinite slope at 0 out of the backward pass)."""
+    return torch.clamp(torch.clamp_min(x, eps) ** (1.0 / 2.2), 0.0, 1.0)
+
+
+def psnr(image: np.ndarray, reference: np.ndarray) -> float:
+    """PSNR of tone-mapped ``(..., 3)`` or ``(3, ...)`` images (scikit-image, data_range 1)."""
+    from skimage.metrics import peak_signal_noise_ratio
+    return float(peak_signal_noise_ratio(tonemap_np(reference), tonemap_np(image), data_range=1.0))
+
+
+def chw(a: np.ndarray) -> Tensor:
+    """``(H, W, C)`` -> contiguous ``(C, H, W)`` float32 tensor."""
+    return torch.from_numpy(np.ascontiguousarray(np.transpose(a, (2, 0, 1)), dtype=np.float32))
+
+
+@dataclass
+class Sample:
+    """One (view, spp) pair, tensors ``(C, H, W)``."""
+    name: str
+    dataset: str
+    spp: int
+    features: Tensor
+    radiance: Tensor
+    albedo: Tensor
+    reference: Tensor
+    spp16: Optional[Tensor] = None
+    passes: Dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+
+def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[int] = (1, 2, 4),
+                 keep_passes: bool = False, progress: bool = False) -> List[Sample]:
+    """Samples for every file and spp (in that order)."""
+    from tqdm import tqdm
+
+    samples: List[Sample] = []
+    for path in tqdm(list(files), desc="loading", unit="view", disable=not progress):
+        view = exr_io.read_view(path)
+        meta = view["view"] or {}
+        dataset = str(meta.get("dataset", Path(path).stem.split("_")[0]))
+        for spp in spps:
+            passes = view["inputs"][spp]
+            samples.append(Sample(
+                name=Path(path).stem, dataset=dataset, spp=spp,
+                features=torch.from_numpy(build_features(passes, channels)),
+                radiance=chw(passes["Radiance"]), albedo=chw(passes["Albedo"]),
+                reference=chw(view["reference"]), spp16=chw(view["spp16"]),
+                passes=dict(passes) if keep_passes else {}))
+    return samples
+
+
+def split_views(data_dir: Path, val_per_dataset: int) -> Tuple[List[Path], List[Path], dict]:
+    """(train files, validation files, manifest): the last ``val_per_dataset`` views of each
+    dataset (by index) are held out for validation."""
+    manifest = json.loads((data_dir / "manifest.json").read_text())
+    by_dataset: Dict[str, List[Tuple[int, Path]]] = {}
+    for record in manifest["views"]:
+        view = record["view"]
+        entry = (view["index"], data_dir / record["file"])
+        by_dataset.setdefault(view["dataset"], []).append(entry)
+    train: List[Path] = []
+    val: List[Path] = []
+    for ds in sorted(by_dataset):
+        items = [p for _, p in sorted(by_dataset[ds])]
+        k = min(val_per_dataset, max(len(items) - 1, 0))
+        train += items[:len(items) - k]
+        val += items[len(items) - k:]
+    return train, val, manifest
+
+
+def dihedral(x: Tensor, k: int) -> Tensor:
+    """The ``k``-th (0..7) of the 8 flips/rotations of ``(..., H, W)`` tensors."""
+    if k & 4:
+        x = torch.flip(x, dims=(-1,))
+    return torch.rot90(x, k & 3, dims=(-2, -1)) if k & 3 else x
+
+
+def batch(samples: Sequence[Sample], transforms: Optional[Sequence[int]] = None
+          ) -> Tuple[Tensor, Tensor, Tensor, Tensor]:
+    """Stacked (features, radiance, albedo, reference), each sample transformed alike."""
+    out = []
+    for attr in ("features", "radiance", "albedo", "reference"):
+        items = [getattr(s, attr) for s in samples]
+        if transforms is not None:
+            items = [dihedral(t, k) for t, k in zip(items, transforms)]
+        out.append(torch.stack(items, 0))
+    return tuple(out)  # type: ignore[return-value]

@@ -1,0 +1,241 @@
+"""Evaluate an exported GuideNet end to end in C++ and write the model card (guidenet.json).
+
+For every held-out view of a training run (``<run>/run.json``) and each input spp, the ONNX
+model is run by the C++ ``vtkPTVDenoiser`` (the code the mapper uses) on the view's passes, and
+the same denoise is computed by the torch pipeline from the run's best checkpoint. Reported:
+PSNR of noisy / denoised (C++) / 16 spp against the 1024-spp reference (tone-mapped
+``clip(max(0, x)^(1/2.2), 0, 1)``, scikit-image, data_range 1), per dataset; the largest
+C++ - torch difference relative to the image range; C++ denoise time. ``--card`` writes the model
+card JSON next to the model.
+
+Needs the compiled package (``PYTHONPATH=<build>/python``); no display (nothing is rendered).
+
+Example::
+
+    PYTHONPATH=build/python .venv/bin/python Training/ptv_training/evaluate.py \\
+        --run .cache/training/runs/ship --model Data/Models/guidenet.onnx \\
+        --card Data/Models/guidenet.json
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import hashlib
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+import torch
+
+if __package__ in (None, ""):  # run as a file
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+    import ptv_training  # noqa: F401
+    __package__ = "ptv_training"
+
+from . import exr_io  # noqa: E402
+from .data import chw, psnr  # noqa: E402
+from .features import build_features, required_passes  # noqa: E402
+from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
+from .scene import ensure_paths, numpy_to_image  # noqa: E402
+from .train import run_model  # noqa: E402
+
+ensure_paths()
+
+
+def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence[str],
+                threads: int = 0) -> Dict[str, Any]:
+    """Denoise ``passes`` (VTK row order) with vtkPTVDenoiser; output ``(H, W, 3)``."""
+    from pathtracedvolume import vtkPTVDenoiser
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    den = vtkPTVDenoiser()
+    den.SetModelFile(str(model_file))
+    den.SetNumberOfThreads(threads)
+    images = []
+    for name in ["Radiance", "Albedo", *[n for n in names if n not in ("Radiance", "Albedo")]]:
+        image = numpy_to_image(passes[name], name)
+        images.append(image)
+        den.SetImage(name, image)
+    if not den.Execute():
+        raise RuntimeError(f"vtkPTVDenoiser.Execute failed: {den.GetStatus()}")
+    t = time.perf_counter()
+    den.Execute()  # second run: timed without the model load
+    seconds = time.perf_counter() - t
+    out = den.GetOutput()
+    w, h, _ = out.GetDimensions()
+    result = vtk_to_numpy(out.GetPointData().GetArray("Denoised")).reshape(h, w, 3).copy()
+    return {"output": result, "network_active": bool(den.GetNetworkActive()),
+            "status": den.GetStatus(), "ms": seconds * 1e3,
+            "stages_ms": {"features": den.GetLastFeatureTime(),
+                          "guidenet": den.GetLastGuideNetTime(),
+                          "splat": den.GetLastSplatTime(), "slice": den.GetLastSliceTime()}}
+
+
+def torch_denoise(model: GuideNet, channels: Sequence[str], levels, clamp: float,
+                  passes: Dict[str, np.ndarray]) -> np.ndarray:
+    with torch.no_grad():
+        f = torch.from_numpy(build_features(passes, channels))[None]
+        out, _, _ = run_model(model, f, chw(passes["Radiance"])[None],
+                              chw(passes["Albedo"])[None], levels, clamp)
+    return out[0].permute(1, 2, 0).numpy()
+
+
+def sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _mean(rows: List[Dict[str, Any]], key: str) -> float:
+    return float(np.mean([r[key] for r in rows]))
+
+
+def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(prog="python Training/ptv_training/evaluate.py",
+                                description="Evaluate an exported model on a run's held-out "
+                                            "views through the C++ denoiser; write the model card.")
+    p.add_argument("--run", type=Path, required=True,
+                   help="training run folder (run.json, best.pt)")
+    p.add_argument("--model", type=Path, required=True, help="the exported .onnx model")
+    p.add_argument("--data", type=Path, default=None, help="views folder (default: the run's)")
+    p.add_argument("--card", type=Path, default=None, help="write the model card JSON here")
+    p.add_argument("--ablation", type=Path, nargs="*", default=[],
+                   help="other run folders to summarise in the card (what was tried)")
+    p.add_argument("--note", action="append", default=[], metavar="KEY=TEXT",
+                   help="free-text note stored under 'notes' in the card (repeatable)")
+    p.add_argument("--threads", type=int, default=2, help="denoiser/torch threads (default 2)")
+    p.add_argument("--tolerance", type=float, default=1e-4,
+                   help="max |C++ - torch| / image range (default 1e-4)")
+    return p.parse_args(argv)
+
+
+def run_summary(run: Path) -> Dict[str, Any]:
+    """Configuration, epochs and validation curve of a training run."""
+    info = json.loads((run / "run.json").read_text())
+    with open(run / "log.csv") as fh:
+        log = list(csv.DictReader(fh))
+    flagged = [r for r in log if r.get("best") == "1"]  # the epoch best.pt holds
+    best = flagged[-1] if flagged else {}
+    return {"run": run.name, "channels": info["channels"], "config": info["config"],
+            "parameters": info["parameters"], "macs_per_pixel": info["macs_per_pixel"],
+            "epochs": len(log), "steps": int(log[-1]["steps"]) if log else 0,
+            "train_seconds": float(log[-1]["elapsed_s"]) if log else 0.0,
+            "best_epoch": int(best.get("epoch", 0)),
+            "best_val_psnr": float(best.get("val_psnr", "nan")),
+            "best_val_psnr_1spp": float(best.get("val_psnr_1spp", "nan")),
+            "noisy_val_psnr_1spp": float(best.get("noisy_psnr_1spp", "nan")),
+            "val_psnr_curve": {"columns": ["epoch", "elapsed_s", "val_psnr", "val_psnr_1spp"],
+                               "rows": [[int(r["epoch"]), float(r["elapsed_s"]),
+                                         float(r["val_psnr"]), float(r["val_psnr_1spp"])]
+                                        for i, r in enumerate(log)
+                                        if i % max(1, len(log) // 15) == 0 or i == len(log) - 1]}}
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = parse_args(argv)
+    torch.set_num_threads(max(1, args.threads))
+    info = json.loads((args.run / "run.json").read_text())
+    data_dir = args.data or Path(info["data"])
+    ck = torch.load(args.run / "best.pt")
+    model = GuideNet(**ck["config"])
+    model.load_state_dict(ck["model"])
+    model.eval()
+    channels = ck["channels"]
+    levels = [tuple(level) for level in ck["levels"]]
+    names = required_passes(channels)
+
+    rows: List[Dict[str, Any]] = []
+    worst = 0.0
+    for name in info["val_views"]:
+        view = exr_io.read_view(data_dir / name)
+        ref = view["reference"]
+        for spp in info["spp"]:
+            passes = view["inputs"][spp]
+            c = cpp_denoise(args.model, passes, names, args.threads)
+            if not c["network_active"]:
+                raise RuntimeError(f"the network is not active: {c['status']}")
+            t = torch_denoise(model, channels, levels, ck["clamp"], passes)
+            span = float(t.max() - t.min()) or 1.0
+            diff = float(np.abs(c["output"] - t).max() / span)
+            worst = max(worst, diff)
+            rows.append({"view": name, "dataset": view["view"]["dataset"], "spp": spp,
+                         "noisy": psnr(passes["Radiance"], ref),
+                         "denoised": psnr(c["output"], ref),
+                         "denoised_torch": psnr(t, ref),
+                         "spp16": psnr(view["spp16"], ref),
+                         "cpp_vs_torch_rel": diff, "cpp_ms": c["ms"],
+                         "cpp_stages_ms": c["stages_ms"]})
+
+    table: Dict[str, Any] = {}
+    for ds in sorted({r["dataset"] for r in rows}) + ["all"]:
+        sel = [r for r in rows if ds in ("all", r["dataset"])]
+        entry: Dict[str, Any] = {"views": len({r["view"] for r in sel})}
+        for spp in info["spp"]:
+            s = [r for r in sel if r["spp"] == spp]
+            entry[f"{spp}spp"] = {"noisy": _mean(s, "noisy"), "denoised": _mean(s, "denoised")}
+        entry["16spp"] = _mean([r for r in sel if r["spp"] == info["spp"][0]], "spp16")
+        table[ds] = entry
+
+    print(f"{'dataset':10s} {'views':>5s} {'noisy 1spp':>11s} {'denoised':>9s} "
+          f"{'16 spp':>7s} | " + " ".join(f"{s}spp n/d" for s in info["spp"][1:]))
+    for ds, e in table.items():
+        extra = " ".join(f"{e[f'{s}spp']['noisy']:5.2f}/{e[f'{s}spp']['denoised']:5.2f}"
+                         for s in info["spp"][1:])
+        print(f"{ds:10s} {e['views']:5d} {e['1spp']['noisy']:11.2f} "
+              f"{e['1spp']['denoised']:9.2f} {e['16spp']:7.2f} | {extra}")
+    ms = [r["cpp_ms"] for r in rows]
+    print(f"C++ vs torch: max |diff| / range = {worst:.2e} (tolerance {args.tolerance:g}); "
+          f"C++ denoise {np.median(ms):.1f} ms median at {ref.shape[1]}x{ref.shape[0]}, "
+          f"{args.threads} threads")
+
+    if args.card is not None:
+        manifest = json.loads((data_dir / "manifest.json").read_text())
+        timings = [sum(v["timings"].values()) for v in manifest["views"] if v["timings"]]
+        card = {
+            "model": args.model.name,
+            "format": "guidenet-v1",
+            "sha256": sha256(args.model),
+            "bytes": args.model.stat().st_size,
+            "architecture": ck["config"],
+            "parameters": count_parameters(model),
+            "macs_per_pixel": macs_per_pixel(model),
+            "channels": channels,
+            "levels": [list(level) for level in levels],
+            "clamp": ck["clamp"],
+            "training": {**run_summary(args.run), "command": info["command"],
+                         "train_views": info["train_views"], "val_views": info["val_views"],
+                         "spp": info["spp"], "optimizer": f"Adam lr {info['args']['lr']}, "
+                         f"batch {info['args']['batch']}, grad-norm clip "
+                         f"{info['args']['clip_grad']}, 8 flips/rotations, whole "
+                         f"{ref.shape[1]}x{ref.shape[0]} views",
+                         "loss": "L1(tonemap(out), tonemap(reference))"},
+            "data": {"command": manifest.get("command"), "format": manifest.get("format"),
+                     "parameters": manifest.get("parameters"), "views": len(manifest["views"]),
+                     "bytes": manifest.get("bytes"),
+                     "render_seconds_total": float(np.sum(timings)) if timings else None,
+                     "render_seconds_median_view": float(np.median(timings)) if timings
+                     else None,
+                     "reference_check": (manifest.get("reference_check") or {}).get("all")},
+            "validation": {"metric": "PSNR (dB) vs the 1024-spp reference, tone-mapped "
+                                     "clip(max(0,x)^(1/2.2),0,1), skimage data_range 1; "
+                                     "denoised = C++ vtkPTVDenoiser with this file",
+                           "per_dataset": table,
+                           "cpp_vs_torch_max_rel_diff": worst,
+                           "cpp_denoise_ms_median": float(np.median(ms)),
+                           "cpp_threads": args.threads,
+                           "rows": [{k: v for k, v in r.items() if k != "cpp_stages_ms"}
+                                    for r in rows]},
+            "tried": [run_summary(r) for r in args.ablation],
+            "notes": dict(n.split("=", 1) for n in args.note),
+        }
+        args.card.parent.mkdir(parents=True, exist_ok=True)
+        tmp = args.card.with_name(f".{args.card.name}.tmp")
+        tmp.write_text(json.dumps(card, indent=1) + "\n")
+        tmp.replace(args.card)
+        print(f"wrote {args.card}")
+    return 0 if worst <= args.tolerance else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,312 @@
+"""Render the denoiser's training data: one multi-channel EXR per random view + a manifest.
+
+For each dataset, ``--views`` random views (camera over the sphere, distance factor 0.8-1.3 by
+a camera Dolly, a positional key light in a random direction above the view, the two-band or
+smooth preset with band thresholds shifted by up to +-5 % of the data range and opacity scaled by
+0.5-1.5) are rendered at ``--size`` squared by vtkPathTracedVolumeMapper (denoising off):
+
+* inputs: every pass after 1, 2 and 4 frames of one seed (the mapper denoises accumulated
+  frames, so the model sees a few spp), and the radiance after 16 frames of the same seed (the
+  "16 spp" baseline);
+* reference: the radiance after ``--reference-spp`` frames of an independent seed, and after the
+  first half of them (``reference_half``, for the convergence check).
+
+Channel layout: :mod:`ptv_training.exr_io`. Each view is deterministic given (``--seed``,
+dataset, view index) and written atomically; a rerun skips views whose file exists and
+verifies (readable, every channel, finite, same parameters), so an interrupted run resumes.
+``manifest.json`` lists the views, parameters, timings and, with ``--check-reference``, the
+convergence check: PSNR(reference_half vs reference) and how much PSNRs of the 1- and 16-spp
+images change when the reference is doubled (images tone-mapped
+``clip(max(0, x)^(1/2.2), 0, 1)``, scikit-image PSNR with data_range 1).
+
+Run under Xvfb with the built package on PYTHONPATH, e.g.::
+
+    PYTHONPATH=build/python xvfb-run -a -n 951 -s "-screen 0 1024x768x24 -noreset" \\
+        .venv/bin/python Training/ptv_training/generate.py --check-reference
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import os
+import platform
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+
+if __package__ in (None, ""):  # run as a file: python Training/ptv_training/generate.py
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+    import ptv_training  # noqa: F401
+    __package__ = "ptv_training"
+
+from . import exr_io  # noqa: E402
+from .scene import (BACKGROUND, Scene, anchor_groups, ensure_paths,  # noqa: E402
+                    sample_threshold_shift)
+
+ensure_paths()
+
+DATASETS = ("head", "stent", "concrete")
+FORMAT = "ptv-training-views-v1"
+REPO_ROOT = Path(__file__).resolve().parents[2]
+DEFAULT_OUT = REPO_ROOT / ".cache" / "training" / "v1"
+
+
+def tonemap(x: np.ndarray) -> np.ndarray:
+    """``clip(max(0, x)^(1/2.2), 0, 1)`` (float32)."""
+    return np.clip(np.power(np.maximum(np.asarray(x, np.float32), 0), 1 / 2.2), 0, 1)
+
+
+def psnr(image: np.ndarray, reference: np.ndarray) -> float:
+    """PSNR of tone-mapped images (scikit-image, data_range 1)."""
+    from skimage.metrics import peak_signal_noise_ratio
+    return float(peak_signal_noise_ratio(tonemap(reference), tonemap(image), data_range=1.0))
+
+
+def _rng(seed: int, dataset: str, index: int, stream: int = 0) -> np.random.Generator:
+    key = hashlib.sha256(f"{seed}/{dataset}/{index}/{stream}".encode()).digest()
+    return np.random.default_rng(int.from_bytes(key[:8], "little"))
+
+
+def view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
+                    elevation_limit: float = 75.0) -> Dict[str, Any]:
+    """The random, deterministic parameters of view ``index`` of ``dataset``."""
+    from pathtracedvolume.presets import find_preset
+
+    rng = _rng(seed, dataset, index)
+    kind = "Two-Band (paper)" if rng.random() < 0.5 else "Smooth"
+    preset_name = f"{dataset.capitalize()} {kind}"
+    preset = find_preset(preset_name)
+    # Uniform directions on the sphere; |elevation| limited (VTK's Elevation degenerates at 90).
+    azimuth = float(rng.uniform(0.0, 360.0))
+    elevation = float(np.degrees(np.arcsin(rng.uniform(-1.0, 1.0))))
+    elevation = float(np.clip(elevation, -elevation_limit, elevation_limit))
+    shift = sample_threshold_shift(preset, rng, 0.05)
+    view = {
+        "dataset": dataset,
+        "index": index,
+        "preset": preset_name,
+        "threshold_shift": shift,
+        "opacity_scale": float(rng.uniform(0.5, 1.5)),
+        "azimuth": azimuth,
+        "elevation": elevation,
+        "distance_factor": float(rng.uniform(0.8, 1.3)),
+        "light": {"azimuth": float(rng.uniform(-135.0, 135.0)),
+                  "elevation": float(rng.uniform(15.0, 80.0)),
+                  "intensity": float(rng.uniform(0.7, 1.3))},
+        "background": list(BACKGROUND),
+        "input_seed": int(rng.integers(1, 2**31 - 1)),
+        "reference_seed": int(rng.integers(1, 2**31 - 1)),
+        "size": [size, size],
+        "reference_spp": int(reference_spp),
+        "input_spp": list(exr_io.INPUT_SPP),
+        "baseline_spp": 16,
+    }
+    assert len(shift) == len(anchor_groups(preset))
+    return view
+
+
+def render_view(scene: Scene, view: Dict[str, Any]) -> Dict[str, Any]:
+    """Render one view: (channels for the EXR, timings, statistics)."""
+    timings: Dict[str, float] = {}
+    inputs: Dict[int, Dict[str, np.ndarray]] = {}
+    t0 = time.perf_counter()
+    scene.set_view(view, seed=view["input_seed"], denoise=False,
+                   max_frames=max(view["baseline_spp"], max(view["input_spp"])))
+    frames = 0
+    for spp in sorted(set(view["input_spp"]) | {view["baseline_spp"]}):
+        got = scene.render(spp - frames)
+        frames = spp
+        if got != spp:
+            raise RuntimeError(f"accumulated {got} frames, expected {spp} (accumulation reset?)")
+        if spp in view["input_spp"]:
+            inputs[spp] = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES}
+        if spp == view["baseline_spp"]:
+            spp16 = scene.get_pass("Radiance")
+    timings["inputs_s"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    ref_spp = view["reference_spp"]
+    scene.set_view(view, seed=view["reference_seed"], denoise=False, max_frames=ref_spp)
+    got = scene.render(ref_spp // 2)
+    if got != ref_spp // 2:
+        raise RuntimeError(f"reference: accumulated {got} frames, expected {ref_spp // 2}")
+    half = scene.get_pass("Radiance")
+    got = scene.render(ref_spp - ref_spp // 2)
+    if got != ref_spp:
+        raise RuntimeError(f"reference: accumulated {got} frames, expected {ref_spp}")
+    reference = scene.get_pass("Radiance")
+    timings["reference_s"] = time.perf_counter() - t0
+
+    radiance = {"reference": reference, "reference_half": half, "spp16": spp16}
+    channels = exr_io.pack_view(inputs, radiance)
+    stats = {"coverage": float((inputs[1]["Alpha"] > 0).mean()),
+             "mean_reference": float(reference.mean())}
+    return {"channels": channels, "timings": timings, "stats": stats, "radiance": radiance,
+            "inputs": inputs}
+
+
+def reference_check(data: Dict[str, np.ndarray], noisy: np.ndarray) -> Dict[str, float]:
+    """Convergence figures of one view (see the module doc)."""
+    ref, half, spp16 = data["reference"], data["reference_half"], data["spp16"]
+    out = {"psnr_half_vs_full": psnr(half, ref)}
+    for name, image in (("1spp", noisy), ("16spp", spp16)):
+        full = psnr(image, ref)
+        out[f"psnr_{name}_vs_full"] = full
+        out[f"psnr_{name}_vs_half"] = psnr(image, half)
+        out[f"delta_db_{name}"] = full - out[f"psnr_{name}_vs_half"]
+    return out
+
+
+def _write_json(path: Path, data: Any) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    with os.fdopen(fd, "w") as f:
+        json.dump(data, f, indent=1, sort_keys=False)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def summarize_checks(views: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
+    """Mean / min / max of every reference-check figure, overall and per dataset."""
+    def agg(items: List[Dict[str, float]]) -> Dict[str, Dict[str, float]]:
+        keys = items[0].keys() if items else []
+        return {k: {"mean": float(np.mean([i[k] for i in items])),
+                    "min": float(np.min([i[k] for i in items])),
+                    "max": float(np.max([i[k] for i in items]))} for k in keys}
+    checked = [v for v in views if v.get("reference_check")]
+    out: Dict[str, Any] = {"views": len(checked),
+                           "all": agg([v["reference_check"] for v in checked])}
+    for ds in sorted({v["view"]["dataset"] for v in checked}):
+        out[ds] = agg([v["reference_check"] for v in checked if v["view"]["dataset"] == ds])
+    return out
+
+
+def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python Training/ptv_training/generate.py",
+        description="Render training views (noisy 1/2/4-spp passes + references) to EXR files.",
+        epilog="Resumable: views whose file exists and verifies are skipped.")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
+                        help=f"output folder (default: {DEFAULT_OUT})")
+    parser.add_argument("--datasets", nargs="+", choices=DATASETS, default=list(DATASETS),
+                        help="datasets (default: all three)")
+    parser.add_argument("--views", type=int, default=12, help="views per dataset (default: 12)")
+    parser.add_argument("--size", type=int, default=128, help="image size S (S x S; default 128)")
+    parser.add_argument("--reference-spp", type=int, default=1024,
+                        help="reference samples per pixel R (default: 1024)")
+    parser.add_argument("--seed", type=int, default=2023, help="master seed (default: 2023)")
+    parser.add_argument("--check-reference", action="store_true",
+                        help="record the reference convergence check (PSNR of R/2 vs R, and the "
+                             "change of the 1- and 16-spp PSNRs when R/2 -> R) in the manifest")
+    parser.add_argument("--threads", type=int, default=0,
+                        help="mapper threads (0 = every core, default)")
+    parser.add_argument("--no-progress", action="store_true", help="no tqdm progress bar")
+    args = parser.parse_args(argv)
+    if args.views < 1 or args.size < 8 or args.reference_spp < 2:
+        parser.error("need --views >= 1, --size >= 8, --reference-spp >= 2")
+    return args
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    from tqdm import tqdm
+
+    args = parse_args(argv)
+    out: Path = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    manifest_path = out / "manifest.json"
+    old: Dict[str, Any] = {}
+    if manifest_path.is_file():
+        try:
+            old = {v["file"]: v for v in json.loads(manifest_path.read_text())["views"]}
+        except (ValueError, KeyError):
+            old = {}
+
+    command = " ".join(sys.argv if argv is None else ["generate.py", *argv])
+    jobs = [(ds, i) for ds in args.datasets for i in range(args.views)]
+    records: List[Dict[str, Any]] = []
+    scenes: Dict[str, Scene] = {}
+    started = time.perf_counter()
+    rendered = skipped = 0
+    bar = tqdm(jobs, desc="views", unit="view", disable=args.no_progress, dynamic_ncols=True)
+    for ds, index in bar:
+        view = view_parameters(ds, index, args.seed, args.size, args.reference_spp)
+        name = f"{ds}_{index:03d}.exr"
+        path = out / name
+        record = old.get(name)
+        ok, _ = exr_io.verify_view_file(path, view, (args.size, args.size)) \
+            if path.is_file() else (False, "missing")
+        if ok and record is not None and record.get("view") == json.loads(json.dumps(view)) \
+                and (record.get("reference_check") or not args.check_reference):
+            records.append(record)
+            skipped += 1
+            continue
+        if ds not in scenes:
+            scenes.clear()  # one dataset's volume in memory at a time
+            scenes[ds] = Scene(ds, (args.size, args.size), threads=args.threads)
+        bar.set_postfix_str(name)
+        if ok:  # the file is good but the manifest lost its record: re-read, do not re-render
+            data = exr_io.read_view(path)
+            result = {"timings": {}, "stats": {
+                "coverage": float((data["inputs"][1]["Alpha"] > 0).mean()),
+                "mean_reference": float(data["reference"].mean())},
+                "radiance": data, "inputs": data["inputs"]}
+        else:
+            result = render_view(scenes[ds], view)
+            exr_io.write_exr(path, result["channels"],
+                             {exr_io.VIEW_ATTRIBUTE: json.dumps(view)})
+            rendered += 1
+        record = {"file": name, "view": view, "timings": result["timings"],
+                  "stats": result["stats"], "bytes": path.stat().st_size}
+        if args.check_reference:
+            record["reference_check"] = reference_check(
+                result["radiance"], result["inputs"][1]["Radiance"])
+        records.append(record)
+        _write_manifest(manifest_path, args, command, records, started, rendered, skipped,
+                        final=False)
+    _write_manifest(manifest_path, args, command, records, started, rendered, skipped, final=True)
+    total = sum(r["bytes"] for r in records)
+    print(f"{len(records)} views in {out} ({rendered} rendered, {skipped} kept; "
+          f"{total / 2**20:.1f} MiB; {time.perf_counter() - started:.0f} s)")
+    if args.check_reference and records:
+        s = summarize_checks(records)["all"]
+        print(f"reference check ({args.reference_spp} spp): PSNR(R/2 vs R) "
+              f"{s['psnr_half_vs_full']['mean']:.2f} dB mean "
+              f"(min {s['psnr_half_vs_full']['min']:.2f}); PSNR change when doubling: "
+              f"1 spp {s['delta_db_1spp']['mean']:+.4f} dB, 16 spp "
+              f"{s['delta_db_16spp']['mean']:+.4f} dB (max {s['delta_db_16spp']['max']:+.4f})")
+    return 0
+
+
+def _write_manifest(path: Path, args: argparse.Namespace, command: str,
+                    records: List[Dict[str, Any]],
+                    started: float, rendered: int, skipped: int, final: bool) -> None:
+    view_seconds = [sum(r["timings"].values()) for r in records if r["timings"]]
+    data = {
+        "format": FORMAT,
+        "complete": final,
+        "command": command,
+        "parameters": {"datasets": args.datasets, "views": args.views, "size": args.size,
+                       "reference_spp": args.reference_spp, "seed": args.seed,
+                       "input_spp": list(exr_io.INPUT_SPP), "baseline_spp": 16,
+                       "threshold_jitter": 0.05, "opacity_scale": [0.5, 1.5],
+                       "distance_factor": [0.8, 1.3]},
+        "channels": exr_io.channel_names(),
+        "row_order": "EXR top row first; ptv_training.exr_io.read_view returns VTK order",
+        "machine": {"platform": platform.platform(), "cpus": os.cpu_count()},
+        "timing": {"this_run_s": time.perf_counter() - started, "rendered": rendered,
+                   "kept": skipped,
+                   "median_view_s": float(np.median(view_seconds)) if view_seconds else None},
+        "bytes": sum(r["bytes"] for r in records),
+        "views": records,
+    }
+    if args.check_reference and records:
+        data["reference_check"] = summarize_checks(records)
+    _write_json(path, data)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,248 @@
+"""A path-traced scene from a plain parameter dict (the training views, the tests).
+
+Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb). The camera
+follows ``scripts/render.py``: position (0, -1, 0), focal point (0, 0, 0), view-up (0, 0, 1),
+then Azimuth / Elevation, ResetCamera, and a Dolly by ``distance_factor`` (> 1 = closer).
+
+View parameters (JSON-friendly)::
+
+    dataset           "head" | "stent" | "concrete"
+    preset            preset name ("Head Two-Band (paper)", "Head Smooth", ...)
+    threshold_shift   [dx, ...] per anchor group of the preset's transfer function (data units)
+    opacity_scale     opacity multiplier (result clipped to [0, 1])
+    azimuth, elevation, distance_factor
+    light             {"azimuth", "elevation", "intensity"}: a positional scene light at
+                      1.5 bounding-box diagonals from the centre; elevation is measured from the
+                      plane orthogonal to the camera's view-up, azimuth from the eye direction
+                      around the view-up (0 = light next to the camera)
+    background        environment (= background) colour
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Dict, List, Mapping, Sequence, Tuple
+
+import numpy as np
+
+BACKGROUND = (0.32, 0.34, 0.43)
+LIGHT_DISTANCE = 1.5  # bounding-box diagonals from the centre
+
+
+def ensure_paths() -> None:
+    """Append ``<repo>/Python`` to sys.path (after PYTHONPATH: the compiled package wins)."""
+    import sys
+    from pathlib import Path
+    python_dir = str(Path(__file__).resolve().parents[2] / "Python")
+    if python_dir not in sys.path:
+        sys.path.append(python_dir)
+
+
+def anchor_groups(preset: Mapping[str, Any], merge_fraction: float = 0.01) -> List[List[float]]:
+    """The transfer function's interior control-point x values (colour and opacity), grouped:
+    points closer than ``merge_fraction`` of the range form one threshold (a band edge)."""
+    pts = np.asarray(preset["Points"], dtype=np.float64).reshape(-1, 4)
+    rgb = np.asarray(preset["RGBPoints"], dtype=np.float64).reshape(-1, 4)
+    lo, hi = pts[0, 0], pts[-1, 0]
+    xs = sorted({float(x) for x in np.concatenate([pts[:, 0], rgb[:, 0]]) if lo < x < hi})
+    groups: List[List[float]] = []
+    for x in xs:
+        if groups and x - groups[-1][-1] <= merge_fraction * (hi - lo):
+            groups[-1].append(x)
+        else:
+            groups.append([x])
+    return groups
+
+
+def sample_threshold_shift(preset: Mapping[str, Any], rng: np.random.Generator,
+                           fraction: float = 0.05, tries: int = 200) -> List[float]:
+    """Per-group shifts uniform in +-``fraction`` of the data range that keep the groups in
+    order (at least 0.2 % of the range apart) and inside the range; zeros if none is found."""
+    pts = np.asarray(preset["Points"], dtype=np.float64).reshape(-1, 4)
+    lo, hi = float(pts[0, 0]), float(pts[-1, 0])
+    span = hi - lo
+    groups = anchor_groups(preset)
+    gap = 0.002 * span
+    for _ in range(tries):
+        shift = rng.uniform(-fraction, fraction, len(groups)) * span
+        ok = True
+        prev_end = lo
+        for g, s in zip(groups, shift):
+            if g[0] + s <= prev_end + (gap if prev_end > lo else 0.0):
+                ok = False
+                break
+            prev_end = g[-1] + s
+        if ok and prev_end < hi:
+            return [float(s) for s in shift]
+    return [0.0] * len(groups)
+
+
+def jitter_preset(preset: Mapping[str, Any], threshold_shift: Sequence[float],
+                  opacity_scale: float) -> Dict[str, Any]:
+    """A copy of ``preset`` with each anchor group moved rigidly by its shift and opacities
+    scaled (clipped to [0, 1])."""
+    groups = anchor_groups(preset)
+    if len(threshold_shift) != len(groups):
+        raise ValueError(f"{len(threshold_shift)} shifts for {len(groups)} anchor groups")
+    moved = {x: x + float(s) for g, s in zip(groups, threshold_shift) for x in g}
+    pts = np.asarray(preset["Points"], dtype=np.float64).reshape(-1, 4).copy()
+    rgb = np.asarray(preset["RGBPoints"], dtype=np.float64).reshape(-1, 4).copy()
+    for table in (pts, rgb):
+        table[:, 0] = [moved.get(float(x), float(x)) for x in table[:, 0]]
+        if np.any(np.diff(table[:, 0]) <= 0):
+            raise ValueError("jittered transfer function is not increasing")
+    pts[:, 1] = np.clip(pts[:, 1] * float(opacity_scale), 0.0, 1.0)
+    out = dict(preset)
+    out["Points"] = [float(v) for v in pts.reshape(-1)]
+    out["RGBPoints"] = [float(v) for v in rgb.reshape(-1)]
+    return out
+
+
+class Scene:
+    """Reader + volume + renderer + offscreen window for one dataset; :meth:`set_view` applies a
+    view's parameters (a new mapper each time, so nothing carries over between views)."""
+
+    def __init__(self, dataset: str, size: Tuple[int, int] = (128, 128),
+                 threads: int = 0) -> None:
+        ensure_paths()
+        from pathtracedvolume.datasets import dataset_path
+        from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+        from vtkmodules.vtkRenderingCore import vtkRenderWindow
+        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+
+        self.dataset = dataset
+        self.reader = vtkXMLImageDataReader()
+        self.reader.SetFileName(str(dataset_path(dataset)))
+        self.reader.Update()
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(*size)
+        self.size = size
+        self.threads = threads
+        self.renderer = None
+        self.mapper = None
+        self._keep: list = []
+
+    def set_view(self, view: Mapping[str, Any], seed: int = 0, denoise: bool = False,
+                 max_frames: int = 1024) -> Any:
+        """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper."""
+        from pathtracedvolume import vtkPathTracedVolumeMapper
+        from pathtracedvolume.presets import apply_preset, find_preset
+        from vtkmodules.vtkRenderingCore import (vtkLight, vtkRenderer, vtkVolume,
+                                                 vtkVolumeProperty)
+
+        if view["dataset"] != self.dataset:
+            raise ValueError(f"view of {view['dataset']!r} on a {self.dataset!r} scene")
+        preset = find_preset(view["preset"])
+        shift = view.get("threshold_shift")
+        if shift is not None or view.get("opacity_scale", 1.0) != 1.0:
+            preset = jitter_preset(preset, shift or [0.0] * len(anchor_groups(preset)),
+                                   view.get("opacity_scale", 1.0))
+        prop = vtkVolumeProperty()
+        apply_preset(preset, prop)
+        prop.SetInterpolationTypeToLinear()
+        prop.ShadeOn()
+
+        mapper = vtkPathTracedVolumeMapper()
+        mapper.SetInputConnection(self.reader.GetOutputPort())
+        mapper.SetSeed(int(seed))
+        mapper.SetMaximumAccumulatedFrames(int(max_frames))
+        mapper.SetDenoise(bool(denoise))
+        if self.threads:
+            mapper.SetNumberOfThreads(int(self.threads))
+        volume = vtkVolume()
+        volume.SetMapper(mapper)
+        volume.SetProperty(prop)
+
+        renderer = vtkRenderer()
+        renderer.AddVolume(volume)
+        renderer.SetBackground(*view.get("background", BACKGROUND))
+        camera = renderer.GetActiveCamera()
+        camera.SetPosition(0, -1, 0)
+        camera.SetFocalPoint(0, 0, 0)
+        camera.SetViewUp(0, 0, 1)
+        camera.Azimuth(float(view.get("azimuth", 0.0)))
+        camera.Elevation(float(view.get("elevation", 0.0)))
+        camera.OrthogonalizeViewUp()
+        renderer.ResetCamera()
+        camera.Dolly(float(view.get("distance_factor", 1.0)))
+        renderer.ResetCameraClippingRange()
+
+        light_spec = view.get("light")
+        if light_spec is not None:
+            bounds = volume.GetBounds()
+            center = np.array([(bounds[0] + bounds[1]) / 2, (bounds[2] + bounds[3]) / 2,
+                               (bounds[4] + bounds[5]) / 2])
+            diag = math.sqrt(sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)))
+            up = np.array(camera.GetViewUp(), dtype=np.float64)
+            up /= np.linalg.norm(up)
+            to_eye = np.array(camera.GetPosition()) - np.array(camera.GetFocalPoint())
+            to_eye -= up * np.dot(to_eye, up)
+            to_eye /= np.linalg.norm(to_eye)
+            side = np.cross(up, to_eye)
+            az = math.radians(float(light_spec["azimuth"]))
+            el = math.radians(float(light_spec["elevation"]))
+            direction = (math.cos(el) * (math.cos(az) * to_eye + math.sin(az) * side)
+                         + math.sin(el) * up)
+            light = vtkLight()
+            light.SetLightTypeToSceneLight()
+            light.SetPositional(True)
+            light.SetConeAngle(180.0)
+            light.SetPosition(*(center + LIGHT_DISTANCE * diag * direction))
+            light.SetFocalPoint(*center)
+            light.SetIntensity(float(light_spec.get("intensity", 1.0)))
+            light.SetDiffuseColor(1.0, 1.0, 1.0)
+            renderer.AddLight(light)
+            self._keep = [light]
+        else:
+            self._keep = []
+
+        if self.renderer is not None:
+            self.window.RemoveRenderer(self.renderer)
+        self.window.AddRenderer(renderer)
+        self.renderer = renderer
+        self.mapper = mapper
+        self._keep += [prop, volume]
+        return mapper
+
+    def render(self, frames: int = 1) -> int:
+        """Render ``frames`` times; returns the mapper's accumulated frame count."""
+        for _ in range(frames):
+            self.window.Render()
+        return int(self.mapper.GetAccumulatedFrames())
+
+    def get_pass(self, name: str) -> np.ndarray:
+        """Pass ``name`` as ``(H, W, C)`` float32 (VTK row order: bottom row first)."""
+        return get_pass(self.mapper, name)
+
+
+def get_pass(mapper: Any, name: str) -> np.ndarray:
+    """``mapper.GetPass(name)`` as ``(H, W, C)`` float32, bottom row first."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    image = vtkImageData()
+    if not mapper.GetPass(name, image):
+        raise RuntimeError(f"mapper has no pass {name!r}")
+    w, h, _ = image.GetDimensions()
+    a = vtk_to_numpy(image.GetPointData().GetArray(name))
+    return np.array(a, dtype=np.float32).reshape(h, w, -1)
+
+
+def numpy_to_image(array: np.ndarray, name: str) -> Any:
+    """``(H, W[, C])`` float32 (bottom row first) -> a W x H x 1 vtkImageData with point array
+    ``name`` (what ``vtkPTVDenoiser.SetImage`` takes)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    a = np.asarray(array, dtype=np.float32)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    h, w, c = a.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    flat = np.ascontiguousarray(a.reshape(h * w, c) if c > 1 else a.reshape(h * w))
+    arr = numpy_to_vtk(flat, deep=True)
+    arr.SetName(name)
+    image.GetPointData().AddArray(arr)
+    image.GetPointData().SetActiveScalars(name)
+    return image

@@ -1,0 +1,333 @@
+"""Train GuideNet through the differentiable bilateral grid on the generated views.
+
+Samples are whole views (``--crop 0``, default: the 128 x 128 views are the paper's patch size)
+or random square crops, each with one of the 8 flips/rotations per step; inputs are the 1-, 2-
+and 4-spp accumulated passes of every training view (``--spp``). Per step::
+
+    features --GuideNet--> guides (x 255), blend weights --bilateral_grid.denoise--> output
+    loss = L1(tonemap(output), tonemap(reference)),  tonemap(x) = clip(max(0, x)^(1/2.2), 0, 1)
+
+Adam (``--lr``, default 1e-3: a short run; the paper uses 1e-4 for long ones), halved after
+``--lr-patience`` epochs without a better validation PSNR, gradient norm clipped to
+``--clip-grad``. The last ``--val-per-dataset`` views of each dataset are held out;
+after every epoch the validation PSNR (tone-mapped, scikit-image, data_range 1) of every held-out
+(view, spp) is logged to ``log.csv``; the best epoch (mean validation PSNR over all held-out
+samples) is kept in ``best.pt`` with PNGs of its guides/weights on a validation view.
+``last.pt`` is written after every epoch: ``--resume`` continues a run where it stopped (same
+order of samples, same wall-clock budget ``--minutes`` counted over all sessions).
+``--export`` writes the best model as a guidenet-v1 ONNX file at the end.
+
+Example::
+
+    .venv/bin/python Training/ptv_training/train.py --data .cache/training/v1 \\
+        --out .cache/training/runs/h16 --hidden 16 --minutes 20 --export Data/Models/guidenet.onnx
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+import torch
+
+if __package__ in (None, ""):  # run as a file: python Training/ptv_training/train.py
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+    import ptv_training  # noqa: F401
+    __package__ = "ptv_training"
+
+from .bilateral_grid import denoise  # noqa: E402
+from .data import (Sample, batch, load_samples, psnr, split_views, tonemap,  # noqa: E402
+                   tonemap_np)
+from .export_onnx import levels_string, parse_levels  # noqa: E402
+from .features import resolve_channels  # noqa: E402
+from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v1"
+LOG_FIELDS = ["epoch", "steps", "elapsed_s", "train_loss", "val_loss", "val_psnr",
+              "val_psnr_1spp", "val_psnr_2spp", "val_psnr_4spp", "noisy_psnr_1spp", "lr", "best"]
+
+
+def run_model(model: GuideNet, features: torch.Tensor, radiance: torch.Tensor,
+              albedo: torch.Tensor, levels: Sequence, clamp: float):
+    """(denoised radiance, guides in [0, 255], weights) of a batch."""
+    guides, weights = model.split(model(features))
+    guides = guides * 255.0
+    out = denoise(radiance, albedo, guides, weights if model.levels > 1 else None,
+                  levels=levels, clamp=clamp)
+    return out, guides, weights
+
+
+def _atomic_save(obj: Any, path: Path) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        torch.save(obj, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _write_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+@torch.no_grad()
+def evaluate(model: GuideNet, samples: Sequence[Sample], levels, clamp: float
+             ) -> Dict[str, Any]:
+    """Validation loss and PSNRs (per sample, per spp, per dataset at 1 spp)."""
+    model.eval()
+    rows = []
+    losses = []
+    for s in samples:
+        f, r, a, ref = batch([s])
+        out, _, _ = run_model(model, f, r, a, levels, clamp)
+        losses.append(float((tonemap(out) - tonemap(ref)).abs().mean()))
+        den = out[0].permute(1, 2, 0).numpy()
+        rows.append({"name": s.name, "dataset": s.dataset, "spp": s.spp,
+                     "psnr": psnr(den, s.reference.permute(1, 2, 0).numpy()),
+                     "noisy": psnr(s.radiance.permute(1, 2, 0).numpy(),
+                                   s.reference.permute(1, 2, 0).numpy())})
+    model.train()
+    result: Dict[str, Any] = {"loss": float(np.mean(losses)) if losses else math.nan,
+                              "psnr": float(np.mean([r["psnr"] for r in rows])) if rows
+                              else math.nan, "rows": rows}
+    for spp in sorted({r["spp"] for r in rows}):
+        sel = [r for r in rows if r["spp"] == spp]
+        result[f"psnr_{spp}spp"] = float(np.mean([r["psnr"] for r in sel]))
+        result[f"noisy_{spp}spp"] = float(np.mean([r["noisy"] for r in sel]))
+    return result
+
+
+def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path: Path) -> None:
+    """One PNG: noisy | denoised | reference (tone-mapped), then each guide / 255 and each blend
+    weight (grey), top row of the image up."""
+    from skimage.io import imsave
+
+    model.eval()
+    with torch.no_grad():
+        f, r, a, ref = batch([sample])
+        out, guides, weights = run_model(model, f, r, a, levels, clamp)
+    model.train()
+
+    def rgb(t: torch.Tensor) -> np.ndarray:
+        return tonemap_np(t[0].permute(1, 2, 0).numpy())[::-1]
+
+    def grey(t: torch.Tensor) -> np.ndarray:
+        g = np.clip(t.numpy()[::-1], 0, 1)
+        return np.repeat(g[:, :, None], 3, axis=2)
+
+    top = [rgb(r), rgb(out), rgb(ref)]
+    bottom = [grey(guides[0, i] / 255.0) for i in range(guides.shape[1])]
+    bottom += [grey(weights[0, i]) for i in range(weights.shape[1])]
+    width = max(len(top), len(bottom))
+    blank = np.zeros_like(top[0])
+    top += [blank] * (width - len(top))
+    bottom += [blank] * (width - len(bottom))
+    image = np.concatenate([np.concatenate(top, 1), np.concatenate(bottom, 1)], 0)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp.png")
+    imsave(str(tmp), (image * 255 + 0.5).astype(np.uint8), check_contrast=False)
+    os.replace(tmp, path)
+
+
+def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(prog="python Training/ptv_training/train.py",
+                                description="Train GuideNet (neural bilateral grid) on "
+                                            "generated views; resumable.")
+    p.add_argument("--data", type=Path, default=DEFAULT_DATA,
+                   help=f"folder with manifest.json and the views (default: {DEFAULT_DATA})")
+    p.add_argument("--out", type=Path, required=True,
+                   help="run folder (checkpoints, log.csv, guide maps)")
+    p.add_argument("--channels", default="VOLUME_FEATURES",
+                   help="feature preset or comma-separated channels (default: VOLUME_FEATURES)")
+    p.add_argument("--hidden", type=int, default=16, help="GuideNet hidden channels (default 16)")
+    p.add_argument("--kernel", type=int, default=5, help="GuideNet kernel size (default 5)")
+    p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
+                   help="grid levels ss:sr (default 4:4,8:8,16:16)")
+    p.add_argument("--clamp", type=float, default=8.0,
+                   help="outlier clamp of the grid (default 8, as the C++ default)")
+    p.add_argument("--spp", default="1,2,4", help="input spp used for training (default 1,2,4)")
+    p.add_argument("--val-per-dataset", type=int, default=3,
+                   help="views per dataset held out for validation (default 3)")
+    p.add_argument("--max-views", type=int, default=0,
+                   help="use at most this many training views (0 = all; for smoke tests)")
+    p.add_argument("--batch", type=int, default=4, help="samples per step (default 4)")
+    p.add_argument("--crop", type=int, default=0,
+                   help="random square crop size (0 = whole views, default)")
+    p.add_argument("--lr", type=float, default=1e-3, help="Adam learning rate (default 1e-3)")
+    p.add_argument("--lr-patience", type=int, default=4,
+                   help="halve the learning rate after this many epochs without a better "
+                        "validation PSNR (0 = constant; default 4; floor 1e-5)")
+    p.add_argument("--clip-grad", type=float, default=1.0,
+                   help="gradient norm clip (0 = off; default 1)")
+    p.add_argument("--epochs", type=int, default=10000, help="most epochs (default 10000)")
+    p.add_argument("--max-steps", type=int, default=0,
+                   help="stop after this many steps in all (0 = no limit)")
+    p.add_argument("--minutes", type=float, default=20.0,
+                   help="wall-clock training budget over all sessions (default 20)")
+    p.add_argument("--seed", type=int, default=0, help="torch/numpy seed (default 0)")
+    p.add_argument("--threads", type=int, default=2, help="torch threads (default 2)")
+    p.add_argument("--resume", action="store_true", help="continue from <out>/last.pt")
+    p.add_argument("--export", type=Path, default=None,
+                   help="write the best model to this .onnx file at the end")
+    p.add_argument("--no-progress", action="store_true", help="no tqdm progress bars")
+    return p.parse_args(argv)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    from tqdm import tqdm
+
+    args = parse_args(argv)
+    torch.set_num_threads(max(1, args.threads))
+    channels = resolve_channels(args.channels)
+    spps = [int(s) for s in args.spp.split(",") if s.strip()]
+    out: Path = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    command = " ".join(sys.argv if argv is None else ["train.py", *map(str, argv)])
+
+    train_files, val_files, manifest = split_views(args.data, args.val_per_dataset)
+    if args.max_views:
+        train_files = train_files[:args.max_views]
+    progress = not args.no_progress
+    train = load_samples(train_files, channels, spps, progress=progress)
+    val = load_samples(val_files, channels, spps, progress=progress)
+    if not train:
+        raise SystemExit("no training views")
+
+    torch.manual_seed(args.seed)
+    model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
+                     levels=len(args.levels))
+    optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)
+    scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
+        optimizer, mode="max", factor=0.5, patience=max(args.lr_patience, 1), threshold=0.01,
+        threshold_mode="abs", min_lr=1e-5)
+    state = {"epoch": 0, "steps": 0, "elapsed": 0.0, "best_psnr": -math.inf, "best_epoch": 0,
+             "log": []}
+    last_path, best_path = out / "last.pt", out / "best.pt"
+    if args.resume and last_path.is_file():
+        ck = torch.load(last_path)
+        if ck["config"] != model.config() or ck["channels"] != channels:
+            raise SystemExit(f"{last_path} is a different model ({ck['config']}, "
+                             f"{ck['channels']})")
+        model.load_state_dict(ck["model"])
+        optimizer.load_state_dict(ck["optimizer"])
+        if "scheduler" in ck:
+            scheduler.load_state_dict(ck["scheduler"])
+        state = ck["state"]
+        print(f"resumed at epoch {state['epoch']} ({state['elapsed']:.0f} s used)")
+    elif last_path.exists() and not args.resume:
+        raise SystemExit(f"{last_path} exists: pass --resume, or use another --out")
+
+    info = {"command": command, "channels": channels, "config": model.config(),
+            "levels": levels_string(args.levels), "parameters": count_parameters(model),
+            "macs_per_pixel": macs_per_pixel(model), "train_views": [p.name for p in train_files],
+            "val_views": [p.name for p in val_files], "spp": spps,
+            "data": str(args.data), "data_format": manifest.get("format"),
+            "args": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}}
+    _write_text(out / "run.json", json.dumps(info, indent=1) + "\n")
+    print(f"GuideNet {model.config()}: {count_parameters(model)} parameters, "
+          f"{macs_per_pixel(model)} MAC/pixel; {len(train)} training samples "
+          f"({len(train_files)} views x {len(spps)} spp), {len(val)} validation samples")
+
+    log_path = out / "log.csv"
+    if not (args.resume and log_path.is_file()):
+        _write_text(log_path, ",".join(LOG_FIELDS) + "\n")
+    budget = args.minutes * 60.0
+    guide_sample = next((s for s in val if s.spp == 1), val[0] if val else train[0])
+
+    while state["epoch"] < args.epochs and state["elapsed"] < budget and \
+            not (args.max_steps and state["steps"] >= args.max_steps):
+        epoch = state["epoch"] + 1
+        rng = np.random.default_rng([args.seed, epoch])  # the same order after a resume
+        torch.manual_seed(args.seed * 100003 + epoch)
+        order = rng.permutation(len(train))
+        transforms = rng.integers(0, 8, len(train))
+        t_epoch = time.perf_counter()
+        losses: List[float] = []
+        steps = range(0, len(order), args.batch)
+        bar = tqdm(steps, desc=f"epoch {epoch}", unit="step", leave=False, disable=not progress)
+        for start in bar:
+            idx = order[start:start + args.batch]
+            f, r, a, ref = batch([train[i] for i in idx], [int(transforms[i]) for i in idx])
+            if args.crop and args.crop < f.shape[-1]:
+                y, x = (int(v) for v in rng.integers(0, f.shape[-1] - args.crop + 1, 2))
+                sl = (Ellipsis, slice(y, y + args.crop), slice(x, x + args.crop))
+                f, r, a, ref = f[sl], r[sl], a[sl], ref[sl]
+            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp)
+            loss = (tonemap(result) - tonemap(ref)).abs().mean()
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            if args.clip_grad > 0:
+                torch.nn.utils.clip_grad_norm_(model.parameters(), args.clip_grad)
+            optimizer.step()
+            losses.append(float(loss))
+            state["steps"] += 1
+            bar.set_postfix(loss=f"{np.mean(losses):.4f}")
+            if args.max_steps and state["steps"] >= args.max_steps:
+                break
+        # Without validation views the criterion is the (negated) training loss.
+        ev = evaluate(model, val, args.levels, args.clamp) if val else \
+            {"loss": math.nan, "psnr": -float(np.mean(losses))}
+        state["elapsed"] += time.perf_counter() - t_epoch
+        state["epoch"] = epoch
+        is_best = ev["psnr"] > state["best_psnr"]
+        row = {"epoch": epoch, "steps": state["steps"], "elapsed_s": round(state["elapsed"], 1),
+               "train_loss": round(float(np.mean(losses)), 6),
+               "val_loss": round(ev["loss"], 6), "val_psnr": round(ev["psnr"], 4),
+               "val_psnr_1spp": round(ev.get("psnr_1spp", math.nan), 4),
+               "val_psnr_2spp": round(ev.get("psnr_2spp", math.nan), 4),
+               "val_psnr_4spp": round(ev.get("psnr_4spp", math.nan), 4),
+               "noisy_psnr_1spp": round(ev.get("noisy_1spp", math.nan), 4),
+               "lr": optimizer.param_groups[0]["lr"], "best": int(is_best)}
+        if args.lr_patience > 0:
+            scheduler.step(ev["psnr"])
+        state["log"].append(row)
+        with open(log_path, "a", newline="") as fh:
+            csv.DictWriter(fh, LOG_FIELDS).writerow(row)
+        checkpoint = {"model": model.state_dict(), "optimizer": optimizer.state_dict(),
+                      "scheduler": scheduler.state_dict(),
+                      "config": model.config(), "channels": channels,
+                      "levels": [list(l) for l in args.levels], "clamp": args.clamp,
+                      "state": state, "validation": {k: v for k, v in ev.items() if k != "rows"}}
+        if is_best:
+            state["best_psnr"], state["best_epoch"] = ev["psnr"], epoch
+            checkpoint["state"] = state
+            checkpoint["validation_rows"] = ev.get("rows", [])
+            _atomic_save(checkpoint, best_path)
+            save_guide_maps(model, guide_sample, args.levels, args.clamp,
+                            out / "guides_best.png")
+        _atomic_save(checkpoint, last_path)
+        tqdm.write(f"epoch {epoch:4d}  {state['elapsed']:7.1f} s  loss {row['train_loss']:.4f}"
+                   f"  val {row['val_psnr']:.2f} dB (1spp {row['val_psnr_1spp']:.2f}, noisy "
+                   f"{row['noisy_psnr_1spp']:.2f}){'  *' if is_best else ''}")
+
+    best = torch.load(best_path)
+    model.load_state_dict(best["model"])
+    save_guide_maps(model, guide_sample, args.levels, args.clamp, out / "guides_final_best.png")
+    print(f"best epoch {best['state']['best_epoch']}: val PSNR {best['state']['best_psnr']:.3f} dB"
+          f" after {state['epoch']} epochs, {state['steps']} steps, {state['elapsed']:.0f} s")
+    if args.export is not None:
+        from .export_onnx import export
+        path = export(model, args.export, channels, args.levels, extra_metadata={
+            "ptv.weights": f"trained: {out.name}, epoch {best['state']['best_epoch']}, "
+                           f"val PSNR {best['state']['best_psnr']:.2f} dB",
+            "ptv.training_command": command})
+        print(f"exported {path} ({path.stat().st_size} bytes)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
