@@ -44,6 +44,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   this->Fit(this->Demodulated, pixels * 3);
   this->Fit(this->Guides, pixels * static_cast<std::size_t>(levels));
   this->Fit(this->RowLuminance, static_cast<std::size_t>(height));
+  this->Fit(this->RowLit, static_cast<std::size_t>(height));
   for (int l = 0; l < kMaxGridLevels; ++l)
   {
     GridLevel& g = this->Levels[l];
@@ -81,6 +82,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   float* demod = this->Demodulated.data();
   float* guidePlanes = this->Guides.data();
   double* rowLuminance = this->RowLuminance.data();
+  std::size_t* rowLit = this->RowLit.data();
   GridLevel* grid = this->Levels;
   const double clamp = settings.Clamp;
 
@@ -95,6 +97,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
           for (vtkIdType y = rowBegin; y < rowEnd; ++y)
           {
             double sum = 0.0;
+            std::size_t lit = 0;
             for (int x = 0; x < width; ++x)
             {
               const std::size_t p = static_cast<std::size_t>(y) * width + x;
@@ -102,21 +105,27 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
               demod[3 * p + 0] = d.x;
               demod[3 * p + 1] = d.y;
               demod[3 * p + 2] = d.z;
-              sum += static_cast<double>(Luminance(d));
+              const float lum = Luminance(d);
+              sum += static_cast<double>(lum);
+              lit += lum > 0.f ? 1 : 0;
               for (int l = 0; l < levels; ++l)
               {
                 guidePlanes[l * pixels + p] = guides[p * levels + l];
               }
             }
             rowLuminance[y] = sum;
+            rowLit[y] = lit;
           }
         });
       double total = 0.0;
+      std::size_t litPixels = 0;
       for (int y = 0; y < height; ++y)
       {
         total += rowLuminance[y];
+        litPixels += rowLit[y];
       }
-      const float limit = ptv::OutlierLimit(total / static_cast<double>(pixels), clamp);
+      const double mean = litPixels > 0 ? total / static_cast<double>(litPixels) : 0.0;
+      const float limit = ptv::OutlierLimit(mean, clamp);
       if (limit > 0.f)
       {
         vtkSMPTools::For(0, height, 1,

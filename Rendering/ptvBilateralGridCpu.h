@@ -67,6 +67,7 @@ private:
   std::vector<float> Demodulated;            // W * H * 3, clamped
   std::vector<float> Guides;                 // Levels * W * H, one plane per level
   std::vector<double> RowLuminance;          // H row sums of luminance(D)
+  std::vector<std::size_t> RowLit;           // H row counts of pixels with luminance(D) > 0
   std::vector<float> Values[kMaxGridLevels]; // per level GW * GH * GD * 3
   std::vector<float> Weights[kMaxGridLevels];
   GridLevel Levels[kMaxGridLevels] = {};

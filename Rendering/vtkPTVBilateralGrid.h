@@ -65,7 +65,8 @@ public:
   ///@{
   /**
    * Outlier clamp: each channel of the demodulated radiance is clamped to at most
-   * Clamp * (mean luminance of the demodulated frame). 0 disables it. Default: 8.
+   * Clamp * (mean luminance of the lit pixels of the demodulated frame, those with a
+   * luminance > 0). 0 disables it. Default: 8.
    */
   vtkSetClampMacro(Clamp, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Clamp, double);

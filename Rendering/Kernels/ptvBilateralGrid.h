@@ -16,9 +16,11 @@
  *    R := 0 where NaN, +-Inf or negative; R := min(R, 1e30). A := 0 where NaN, +-Inf or
  *    negative; A := min(A, 1). D = R / (A + eps), eps = 0.01, per channel.
  *    (The caps on finite values keep every later sum finite; they never bind on real frames.)
- * 2. Outlier clamp (Luminance, OutlierLimit, ClampOutliers): m = mean over all pixels of
- *    luminance(D) = 0.2126 r + 0.7152 g + 0.0722 b (summed in double); if Clamp > 0, every
- *    channel of D is clamped to <= float(Clamp * max(m, 1e-6)). Clamp = 0 disables it.
+ * 2. Outlier clamp (Luminance, OutlierLimit, ClampOutliers): m = mean of
+ *    luminance(D) = 0.2126 r + 0.7152 g + 0.0722 b over the LIT pixels, those with
+ *    luminance(D) > 0 (summed in double; m = 0 when none is lit), so that the empty background
+ *    does not pull the limit down; if Clamp > 0, every channel of D is clamped to
+ *    <= float(Clamp * max(m, 1e-6)). Clamp = 0 disables it.
  * 3. Per level with spatial cell size ss and range step sr (1..256; defaults (4,4), (8,8),
  *    (16,16)): grid GW = ceil(W / ss), GH = ceil(H / ss), GD = ceil(256 / sr).
  *    Pixel x maps to u = (x + 0.5) / ss - 0.5, evaluated as float(2x + 1 - ss) / float(2 ss)

@@ -358,3 +358,33 @@ def test_cpp_defaults() -> None:
     assert grid.GetNumberOfThreads() == 0
     assert [(grid.GetSpatialStep(i), grid.GetRangeStep(i)) for i in range(3)] == list(
         bg.DEFAULT_LEVELS)
+
+
+def test_clamp_limit_uses_lit_pixels_only() -> None:
+    """The outlier limit is Clamp x the mean luminance of the lit pixels (luminance > 0).
+
+    A 10x10 frame, 96 black background pixels, 3 lit pixels of luminance 1 and one of 5:
+    the lit mean is 2, so Clamp = 2 caps at 4 (a whole-frame mean of 0.08 would cap at 0.16).
+    Checked on the demodulated clamp in torch and end to end in C++ with one 1x1-cell level
+    and no range blur: the firefly pixel comes back as exactly its cap times (A + eps).
+    """
+    radiance = np.zeros((10, 10, 3), np.float32)
+    albedo = np.full((10, 10, 3), 1.0 - bg.DEMODULATION_EPSILON, np.float32)  # A + eps = 1
+    radiance[0, 0:3] = 1.0
+    radiance[9, 9] = 5.0
+    demod = bg.demodulate(to_torch(radiance), to_torch(albedo))
+    clamped = bg.clamp_outliers(demod, 2.0)[0].permute(1, 2, 0).numpy()
+    assert np.allclose(clamped[9, 9], 4.0, rtol=1e-6)
+    assert np.allclose(clamped[0, 0:3], 1.0, rtol=1e-6)
+    assert (clamped[1:9] == 0).all()
+    dark = np.zeros_like(radiance)  # nothing lit: the limit is the 1e-6 floor, output 0
+    assert (bg.clamp_outliers(bg.demodulate(to_torch(dark), to_torch(albedo)), 2.0) == 0).all()
+
+    # C++: guides put every pixel in its own range bin far from its neighbours' values.
+    guides = np.zeros((10, 10, 1), np.float32)
+    guides[9, 9, 0] = 255.0
+    weights = np.zeros((10, 10, 0), np.float32)
+    result = cpp_denoise(radiance, albedo, guides, weights, clamp=2.0)
+    expected = torch_denoise(radiance, albedo, guides, weights, clamp=2.0)
+    assert np.allclose(result, expected, rtol=1e-6, atol=1e-7)
+    assert np.allclose(result[9, 9], 4.0, rtol=1e-6)

@@ -7,7 +7,7 @@ single-precision expressions as the C++ class ``vtkPTVBilateralGrid``, so both a
 summation order of the splat. In short, per image::
 
     D = sanitize(R) / (sanitize(A) + 0.01)            # NaN/Inf/negative -> 0
-    D = min(D, clamp * max(mean(luminance(D)), 1e-6))  # when clamp > 0
+    D = min(D, clamp * max(mean(luminance(D) over lit pixels), 1e-6))  # when clamp > 0
     per level (ss, sr): splat D into a ceil(W/ss) x ceil(H/ss) x ceil(256/sr) grid (tent-weighted
         normalized means, empty cells 0), slice it trilinearly at (u, v, guide / sr) over the
         non-empty neighbours (renormalized)
@@ -113,10 +113,15 @@ def demodulate(radiance: Tensor, albedo: Tensor) -> Tensor:
 
 
 def clamp_outliers(demod: Tensor, clamp: Optional[float]) -> Tensor:
-    """Clamp each channel to ``clamp * max(mean luminance, 1e-6)`` per image (off if <= 0)."""
+    """Clamp each channel to ``clamp * max(m, 1e-6)`` per image (off if <= 0).
+
+    ``m`` is the mean luminance over the lit pixels (luminance > 0; 0 when none is lit).
+    """
     if clamp is None or not clamp > 0:
         return demod
-    mean = luminance(demod).double().mean(dim=(-2, -1))
+    lum = luminance(demod).double()
+    lit = (lum > 0).sum(dim=(-2, -1))
+    mean = lum.sum(dim=(-2, -1)) / lit.clamp_min(1)
     limit = (float(clamp) * mean.clamp_min(MIN_OUTLIER_MEAN)).to(demod.dtype)
     return torch.minimum(demod, limit.view(-1, 1, 1, 1))
 
