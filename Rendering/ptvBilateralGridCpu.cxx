@@ -101,7 +101,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
             for (int x = 0; x < width; ++x)
             {
               const std::size_t p = static_cast<std::size_t>(y) * width + x;
-              const Vec3 d = Demodulate(radiance + 3 * p, albedo + 3 * p);
+              const Vec3 d = Demodulate(radiance + 3 * p, albedo ? albedo + 3 * p : nullptr);
               demod[3 * p + 0] = d.x;
               demod[3 * p + 1] = d.y;
               demod[3 * p + 2] = d.z;
@@ -188,7 +188,8 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
               const float* w = weights ? weights + p * (levels - 1) : nullptr;
               const float w1 = levels >= 2 && w ? w[0] : 0.f;
               const float w2 = levels >= 3 && w ? w[1] : 0.f;
-              const Vec3 r = Remodulate(Blend(s[0], s[1], s[2], levels, w1, w2), albedo + 3 * p);
+              const Vec3 r = Remodulate(
+                Blend(s[0], s[1], s[2], levels, w1, w2), albedo ? albedo + 3 * p : nullptr);
               out[3 * p + 0] = r.x;
               out[3 * p + 1] = r.y;
               out[3 * p + 2] = r.z;

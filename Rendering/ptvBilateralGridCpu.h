@@ -47,7 +47,8 @@ public:
   /**
    * Denoise one W x H frame. @a radiance, @a albedo and @a out hold W * H RGB pixels (x
    * fastest), @a guides W * H * Levels interleaved values, @a weights W * H * (Levels - 1)
-   * interleaved values (may be nullptr when Levels == 1). The settings must be valid (levels
+   * interleaved values (may be nullptr when Levels == 1). @a albedo nullptr: no demodulation.
+   * The settings must be valid (levels
    * 1..3, steps 1..256, W, H >= 1); the caller validates. @a out must not alias an input.
    */
   void Apply(const BilateralGridSettings& settings, int width, int height,

@@ -144,7 +144,8 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
         }
       }
       this->Status = "GuideNet " + this->RequestedModel + " (" +
-        this->Session.GetExecutionProvider() + "), " + std::to_string(levels) + " levels";
+        this->Session.GetExecutionProvider() + "), " + std::to_string(levels) + " levels" +
+        (this->Session.GetDemodulate() ? "" : ", no demodulation");
     }
   }
   if (!this->NetworkActive)
@@ -181,7 +182,10 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   }
 
   grid.Levels = this->Levels;
-  this->Grid.Apply(grid, width, height, passes[PassRadiance], passes[PassAlbedo],
+  // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
+  const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
+  this->Grid.Apply(grid, width, height, passes[PassRadiance],
+    demodulate ? passes[PassAlbedo] : nullptr,
     this->Guides.data(), this->Levels > 1 ? this->Weights.data() : nullptr, out);
   this->Timings.Splat = this->Grid.GetLastTimings().Demodulate + this->Grid.GetLastTimings().Splat;
   this->Timings.Slice = this->Grid.GetLastTimings().Slice;

@@ -17,6 +17,7 @@ const char* const FormatKey = "ptv.format";
 const char* const ChannelsKey = "ptv.input_channels";
 const char* const LevelsKey = "ptv.levels";
 const char* const GuideScaleKey = "ptv.guide_scale";
+const char* const DemodulateKey = "ptv.demodulate";
 const char* const FormatValue = "guidenet-v1";
 const char* const CpuProvider = "CPUExecutionProvider";
 const char* const CudaProvider = "CUDAExecutionProvider";
@@ -144,6 +145,7 @@ void GuideNetSession::Unload()
   this->Channels.clear();
   this->Levels.clear();
   this->GuideScale = 255.0;
+  this->Demodulate = true;
 }
 
 //------------------------------------------------------------------------------
@@ -177,6 +179,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   std::vector<std::string> channels;
   std::vector<std::pair<int, int>> levels;
   double guideScale = 255.0;
+  bool demodulate = true;
   std::string provider = CpuProvider;
   try
   {
@@ -304,6 +307,19 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       }
     }
 
+    if (lookup(DemodulateKey, value))
+    {
+      if (value == "0" || value == "1")
+      {
+        demodulate = value == "1";
+      }
+      else
+      {
+        problems.push_back(std::string("metadata ") + DemodulateKey + " \"" + value +
+          "\" is not 0 or 1");
+      }
+    }
+
     // Input: exactly one float tensor [1, C, H, W].
     const size_t nIn = in.Session.GetInputCount();
     const size_t nOut = in.Session.GetOutputCount();
@@ -394,6 +410,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   this->Channels = std::move(channels);
   this->Levels = std::move(levels);
   this->GuideScale = guideScale;
+  this->Demodulate = demodulate;
   return true;
 }
 

@@ -8,7 +8,8 @@
  *    comma-separated metadata "ptv.input_channels";
  *  - one float output, rank 4, [1, 2L - 1, H, W], L = number of "ss:sr" pairs in "ptv.levels"
  *    (first L channels are guides in [0, 1], then L - 1 blend weights);
- *  - metadata "ptv.format" = "guidenet-v1"; optional "ptv.guide_scale" (default 255).
+ *  - metadata "ptv.format" = "guidenet-v1"; optional "ptv.guide_scale" (default 255) and
+ *    "ptv.demodulate" ("1" default: the grid denoises radiance / albedo; "0": radiance).
  *
  * No ONNX Runtime type appears here: the Ort:: objects live in the .cxx (PIMPL), so this header
  * may be included by code that does not see the ORT include folder.
@@ -62,6 +63,8 @@ public:
   /// (spatial step ss, range step sr) per level, finest first.
   const std::vector<std::pair<int, int>>& GetLevels() const { return this->Levels; }
   double GetGuideScale() const { return this->GuideScale; }
+  /// Whether the model was trained with albedo demodulation ("ptv.demodulate").
+  bool GetDemodulate() const { return this->Demodulate; }
   /// "CPUExecutionProvider" or "CUDAExecutionProvider"; empty when nothing is loaded.
   const std::string& GetExecutionProvider() const { return this->Provider; }
   const std::string& GetPath() const { return this->Path; }
@@ -78,6 +81,7 @@ private:
   std::vector<std::string> Channels;
   std::vector<std::pair<int, int>> Levels;
   double GuideScale = 255.0;
+  bool Demodulate = true;
 };
 }
 

@@ -209,10 +209,14 @@ bool vtkPTVBilateralGrid::Apply(vtkImageData* radiance, vtkImageData* albedo,
   {
     return false;
   }
-  vtkFloatArray* albedoArray = check(albedo, "albedo", 3);
-  if (!albedoArray)
+  vtkFloatArray* albedoArray = nullptr;
+  if (this->Demodulate)
   {
-    return false;
+    albedoArray = check(albedo, "albedo", 3);
+    if (!albedoArray)
+    {
+      return false;
+    }
   }
   vtkFloatArray* guidesArray = check(guides, "guides", levels);
   if (!guidesArray)
@@ -271,7 +275,8 @@ bool vtkPTVBilateralGrid::Apply(vtkImageData* radiance, vtkImageData* albedo,
   this->Internals->Settings.Clamp = this->Clamp;
   this->Internals->Settings.Threads = this->NumberOfThreads;
   this->Internals->Cpu.Apply(this->Internals->Settings, width, height,
-    radianceArray->GetPointer(0), albedoArray->GetPointer(0), guidesArray->GetPointer(0),
+    radianceArray->GetPointer(0), albedoArray ? albedoArray->GetPointer(0) : nullptr,
+    guidesArray->GetPointer(0),
     weightsArray ? weightsArray->GetPointer(0) : nullptr, result->GetPointer(0));
   this->Internals->Timings = this->Internals->Cpu.GetLastTimings();
   result->Modified();
@@ -291,6 +296,7 @@ void vtkPTVBilateralGrid::PrintSelf(ostream& os, vtkIndent indent)
        << s.RangeStep[l] << "\n";
   }
   os << indent << "Clamp: " << this->Clamp << "\n";
+  os << indent << "Demodulate: " << (this->Demodulate ? "On" : "Off") << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "LastDemodulateTime: " << this->Internals->Timings.Demodulate << " ms\n";
   os << indent << "LastSplatTime: " << this->Internals->Timings.Splat << " ms\n";

@@ -11,7 +11,8 @@
  *
  * Apply() takes 2D images (dimensions W x H x 1, W, H >= 1) whose active point scalars are
  * vtkFloatArray with 3 (radiance), 3 (albedo), L (guides, range [0, 255]) and L - 1 (blend
- * weights, range [0, 1]) components, L = NumberOfLevels. The output image gets the inputs'
+ * weights, range [0, 1]) components, L = NumberOfLevels; with Demodulate off the albedo is
+ * not used and may be nullptr. The output image gets the inputs'
  * geometry and a 3-component vtkFloatArray "Denoised" as active scalars (reused, not
  * reallocated, when the output already holds one of the right size). The CPU work runs on
  * vtkSMPTools (STDThread when the application's backend is Sequential) and is bit-identical
@@ -74,6 +75,18 @@ public:
 
   ///@{
   /**
+   * Denoise radiance / (albedo + 0.01) and multiply back (on), or the radiance itself (off).
+   * At 1 spp a volume's albedo (colour at a random scattering event) is as noisy as the
+   * radiance, so multiplying back by it restores that noise; models say which they were
+   * trained with. Default: on.
+   */
+  vtkSetMacro(Demodulate, bool);
+  vtkGetMacro(Demodulate, bool);
+  vtkBooleanMacro(Demodulate, bool);
+  ///@}
+
+  ///@{
+  /**
    * Number of CPU threads; 0 uses every core. The result does not depend on it. Default: 0.
    */
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
@@ -104,6 +117,7 @@ protected:
 
   int NumberOfLevels = 3;
   double Clamp = 8.0;
+  bool Demodulate = true;
   int NumberOfThreads = 0;
 
 private:

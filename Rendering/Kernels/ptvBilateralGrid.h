@@ -14,7 +14,8 @@
  *
  * 1. Sanitise and demodulate (SanitizeRadiance, SanitizeAlbedo, Demodulate):
  *    R := 0 where NaN, +-Inf or negative; R := min(R, 1e30). A := 0 where NaN, +-Inf or
- *    negative; A := min(A, 1). D = R / (A + eps), eps = 0.01, per channel.
+ *    negative; A := min(A, 1). D = R / (A + eps), eps = 0.01, per channel. Without albedo
+ *    (A = nullptr: demodulation off) D = R and step 5 is the identity.
  *    (The caps on finite values keep every later sum finite; they never bind on real frames.)
  * 2. Outlier clamp (Luminance, OutlierLimit, ClampOutliers): m = mean of
  *    luminance(D) = 0.2126 r + 0.7152 g + 0.0722 b over the LIT pixels, those with
@@ -38,7 +39,7 @@
  *    kept weights; 0 when that sum is 0.
  * 4. Blend (Blend): weights sanitised to [0, 1] (NaN -> 0). L = 3: s1 w1 + s2 w2 + s3 (1 - w1 -
  *    w2) (the third weight may be negative); L = 2: s1 w1 + s2 (1 - w1); L = 1: s1.
- * 5. Re-modulate (Remodulate): result = out * (A + eps) with the sanitised A. The result is
+ * 5. Re-modulate (Remodulate): result = out * (A + eps) with the sanitised A (out without A). The result is
  *    finite everywhere (every slice is a convex combination of D values <= 1e32).
  *
  * Grid layout (GridLevel): cell (i, j, k) is column (j * GW + i), Weights[column * GD + k],
@@ -150,15 +151,24 @@ PTV_HD PTV_INLINE float SanitizeBlendWeight(float w)
 /// Demodulated radiance D = R / (A + eps) of raw (unsanitised) radiance and albedo.
 PTV_HD PTV_INLINE Vec3 Demodulate(const float* radiance, const float* albedo)
 {
+  if (!albedo)
+  {
+    return MakeVec3(
+      SanitizeRadiance(radiance[0]), SanitizeRadiance(radiance[1]), SanitizeRadiance(radiance[2]));
+  }
   return MakeVec3(
     SanitizeRadiance(radiance[0]) / (SanitizeAlbedo(albedo[0]) + kDemodulationEpsilon),
     SanitizeRadiance(radiance[1]) / (SanitizeAlbedo(albedo[1]) + kDemodulationEpsilon),
     SanitizeRadiance(radiance[2]) / (SanitizeAlbedo(albedo[2]) + kDemodulationEpsilon));
 }
 
-/// result = out * (A + eps) of raw (unsanitised) albedo.
+/// result = out * (A + eps) of raw (unsanitised) albedo; out when @a albedo is nullptr.
 PTV_HD PTV_INLINE Vec3 Remodulate(Vec3 out, const float* albedo)
 {
+  if (!albedo)
+  {
+    return out;
+  }
   return MakeVec3(out.x * (SanitizeAlbedo(albedo[0]) + kDemodulationEpsilon),
     out.y * (SanitizeAlbedo(albedo[1]) + kDemodulationEpsilon),
     out.z * (SanitizeAlbedo(albedo[2]) + kDemodulationEpsilon));

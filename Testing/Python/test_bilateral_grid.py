@@ -75,9 +75,10 @@ def structured_inputs(rng: np.random.Generator, width: int, height: int,
 
 
 def torch_denoise(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,
-                  weights: np.ndarray, clamp: float) -> np.ndarray:
+                  weights: np.ndarray, clamp: float, demodulate: bool = True) -> np.ndarray:
     levels = guides.shape[-1]
-    out = bg.denoise(to_torch(radiance), to_torch(albedo), to_torch(guides),
+    out = bg.denoise(to_torch(radiance), to_torch(albedo) if demodulate else None,
+                     to_torch(guides),
                      to_torch(weights) if levels > 1 else None,
                      bg.DEFAULT_LEVELS[:levels], clamp)
     return out[0].permute(1, 2, 0).numpy()
@@ -253,7 +254,8 @@ def vtk_image(array: np.ndarray):
 
 
 def cpp_denoise(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,
-                weights: np.ndarray, clamp: float, threads: int = 2) -> np.ndarray:
+                weights: np.ndarray, clamp: float, threads: int = 2,
+                demodulate: bool = True) -> np.ndarray:
     from pathtracedvolume.vtkPTVRendering import vtkPTVBilateralGrid
     from vtkmodules.util import numpy_support
     from vtkmodules.vtkCommonDataModel import vtkImageData
@@ -262,9 +264,11 @@ def cpp_denoise(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,
     grid = vtkPTVBilateralGrid()
     grid.SetNumberOfLevels(levels)
     grid.SetClamp(clamp)
+    grid.SetDemodulate(demodulate)
     grid.SetNumberOfThreads(threads)
     output = vtkImageData()
-    ok = grid.Apply(vtk_image(radiance), vtk_image(albedo), vtk_image(guides),
+    ok = grid.Apply(vtk_image(radiance), vtk_image(albedo) if demodulate else None,
+                    vtk_image(guides),
                     vtk_image(weights) if levels > 1 else None, output)
     assert ok
     scalars = output.GetPointData().GetScalars()
@@ -388,3 +392,18 @@ def test_clamp_limit_uses_lit_pixels_only() -> None:
     expected = torch_denoise(radiance, albedo, guides, weights, clamp=2.0)
     assert np.allclose(result, expected, rtol=1e-6, atol=1e-7)
     assert np.allclose(result[9, 9], 4.0, rtol=1e-6)
+
+
+@pytest.mark.parametrize("levels", [1, 3])
+def test_cpp_matches_torch_without_demodulation(levels: int) -> None:
+    """Demodulate off: C++ (no albedo image at all) and torch (albedo None) agree, and the
+    result differs from the demodulated one (the albedo really is left out)."""
+    rng = np.random.default_rng(7 + levels)
+    inputs = structured_inputs(rng, 129, 77, levels)
+    reference = torch_denoise(*inputs, clamp=8.0, demodulate=False)
+    result = cpp_denoise(*inputs, clamp=8.0, demodulate=False)
+    span = float(reference.max() - reference.min())
+    assert np.isfinite(result).all()
+    assert float(np.abs(result - reference).max()) <= PARITY_TOLERANCE * span
+    demodulated = cpp_denoise(*inputs, clamp=8.0)
+    assert float(np.abs(result - demodulated).max()) > 0.01 * span

@@ -6,13 +6,14 @@ of ``Rendering/Kernels/ptvBilateralGrid.h``; this module implements exactly that
 single-precision expressions as the C++ class ``vtkPTVBilateralGrid``, so both agree up to the
 summation order of the splat. In short, per image::
 
-    D = sanitize(R) / (sanitize(A) + 0.01)            # NaN/Inf/negative -> 0
+    D = sanitize(R) / (sanitize(A) + 0.01)            # NaN/Inf/negative -> 0; D = sanitize(R)
+                                                      # without albedo (no demodulation)
     D = min(D, clamp * max(mean(luminance(D) over lit pixels), 1e-6))  # when clamp > 0
     per level (ss, sr): splat D into a ceil(W/ss) x ceil(H/ss) x ceil(256/sr) grid (tent-weighted
         normalized means, empty cells 0), slice it trilinearly at (u, v, guide / sr) over the
         non-empty neighbours (renormalized)
     out = s1 w1 + s2 w2 + s3 (1 - w1 - w2)             # 3 levels; 2: s1 w1 + s2 (1 - w1)
-    result = out * (sanitize(A) + 0.01)
+    result = out * (sanitize(A) + 0.01)                # result = out without albedo
 
 Everything is batched ``(N, C, H, W)`` and differentiable with respect to the guides and the
 blend weights (the radiance and albedo are data). Grids are ``(N, 3, GD, GH, GW)`` values and
@@ -249,14 +250,15 @@ def blend(slices: Sequence[Tensor], weights: Optional[Tensor]) -> Tensor:
     return slices[0] * w1 + slices[1] * w2 + slices[2] * ((1.0 - w1) - w2)
 
 
-def denoise(radiance: Tensor, albedo: Tensor, guides: Tensor, weights: Optional[Tensor],
+def denoise(radiance: Tensor, albedo: Optional[Tensor], guides: Tensor, weights: Optional[Tensor],
             levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
             clamp: Optional[float] = 8.0) -> Tensor:
     """Bilateral-grid denoise, see the module docstring and ``ptvBilateralGrid.h``.
 
     Args:
         radiance: noisy HDR radiance ``(N, 3, H, W)`` (NaN/Inf/negatives are treated as 0).
-        albedo: albedo ``(N, 3, H, W)``.
+        albedo: albedo ``(N, 3, H, W)``, or None: no demodulation (1-spp volume albedo is
+            itself noisy, and re-modulating by it puts that noise back).
         guides: one guide per level ``(N, L, H, W)``, range [0, 255].
         weights: blend weights ``(N, L - 1, H, W)`` in [0, 1]; may be None when L == 1.
         levels: ``(spatial_step, range_step)`` of each of the L = 1..3 levels.
@@ -270,7 +272,7 @@ def denoise(radiance: Tensor, albedo: Tensor, guides: Tensor, weights: Optional[
     n, _, height, width = radiance.shape
     if height < 1 or width < 1 or n < 1:
         raise ValueError(f"radiance is empty: {tuple(radiance.shape)}")
-    if tuple(albedo.shape) != tuple(radiance.shape):
+    if albedo is not None and tuple(albedo.shape) != tuple(radiance.shape):
         raise ValueError(f"albedo shape {tuple(albedo.shape)} differs from radiance "
                          f"{tuple(radiance.shape)}")
     count = len(levels)
@@ -283,12 +285,17 @@ def denoise(radiance: Tensor, albedo: Tensor, guides: Tensor, weights: Optional[
                       or tuple(weights.shape) != (n, count - 1, height, width)):
         got = None if weights is None else tuple(weights.shape)
         raise ValueError(f"weights must be {(n, count - 1, height, width)}, got {got}")
-    clean_albedo = sanitize_albedo(albedo)
-    demod = sanitize_radiance(radiance) / (clean_albedo + DEMODULATION_EPSILON)
+    if albedo is None:
+        modulation: Optional[Tensor] = None
+        demod = sanitize_radiance(radiance)
+    else:
+        modulation = sanitize_albedo(albedo) + DEMODULATION_EPSILON
+        demod = sanitize_radiance(radiance) / modulation
     demod = clamp_outliers(demod, clamp)
     slices = []
     for index, (spatial_step, range_step) in enumerate(levels):
         guide = guides[:, index:index + 1]
         grid_values, grid_weights = splat(demod, guide, spatial_step, range_step)
         slices.append(slice_grid(grid_values, grid_weights, guide, spatial_step, range_step))
-    return blend(slices, weights) * (clean_albedo + DEMODULATION_EPSILON)
+    out = blend(slices, weights)
+    return out if modulation is None else out * modulation

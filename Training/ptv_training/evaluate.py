@@ -75,11 +75,11 @@ def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence
 
 
 def torch_denoise(model: GuideNet, channels: Sequence[str], levels, clamp: float,
-                  passes: Dict[str, np.ndarray]) -> np.ndarray:
+                  passes: Dict[str, np.ndarray], demodulate: bool = True) -> np.ndarray:
     with torch.no_grad():
         f = torch.from_numpy(build_features(passes, channels))[None]
         out, _, _ = run_model(model, f, chw(passes["Radiance"])[None],
-                              chw(passes["Albedo"])[None], levels, clamp)
+                              chw(passes["Albedo"])[None], levels, clamp, demodulate)
     return out[0].permute(1, 2, 0).numpy()
 
 
@@ -155,7 +155,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             c = cpp_denoise(args.model, passes, names, args.threads)
             if not c["network_active"]:
                 raise RuntimeError(f"the network is not active: {c['status']}")
-            t = torch_denoise(model, channels, levels, ck["clamp"], passes)
+            t = torch_denoise(model, channels, levels, ck["clamp"], passes,
+                              ck.get("demodulate", True))
             span = float(t.max() - t.min()) or 1.0
             diff = float(np.abs(c["output"] - t).max() / span)
             worst = max(worst, diff)
@@ -203,6 +204,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "channels": channels,
             "levels": [list(level) for level in levels],
             "clamp": ck["clamp"],
+            "demodulate": ck.get("demodulate", True),
             "training": {**run_summary(args.run), "command": info["command"],
                          "train_views": info["train_views"], "val_views": info["val_views"],
                          "spp": info["spp"], "optimizer": f"Adam lr {info['args']['lr']}, "

@@ -57,11 +57,12 @@ LOG_FIELDS = ["epoch", "steps", "elapsed_s", "train_loss", "val_loss", "val_psnr
 
 
 def run_model(model: GuideNet, features: torch.Tensor, radiance: torch.Tensor,
-              albedo: torch.Tensor, levels: Sequence, clamp: float):
+              albedo: torch.Tensor, levels: Sequence, clamp: float, demodulate: bool = True):
     """(denoised radiance, guides in [0, 255], weights) of a batch."""
     guides, weights = model.split(model(features))
     guides = guides * 255.0
-    out = denoise(radiance, albedo, guides, weights if model.levels > 1 else None,
+    out = denoise(radiance, albedo if demodulate else None, guides,
+                  weights if model.levels > 1 else None,
                   levels=levels, clamp=clamp)
     return out, guides, weights
 
@@ -85,15 +86,15 @@ def _write_text(path: Path, text: str) -> None:
 
 
 @torch.no_grad()
-def evaluate(model: GuideNet, samples: Sequence[Sample], levels, clamp: float
-             ) -> Dict[str, Any]:
+def evaluate(model: GuideNet, samples: Sequence[Sample], levels, clamp: float,
+             demodulate: bool = True) -> Dict[str, Any]:
     """Validation loss and PSNRs (per sample, per spp, per dataset at 1 spp)."""
     model.eval()
     rows = []
     losses = []
     for s in samples:
         f, r, a, ref = batch([s])
-        out, _, _ = run_model(model, f, r, a, levels, clamp)
+        out, _, _ = run_model(model, f, r, a, levels, clamp, demodulate)
         losses.append(float((tonemap(out) - tonemap(ref)).abs().mean()))
         den = out[0].permute(1, 2, 0).numpy()
         rows.append({"name": s.name, "dataset": s.dataset, "spp": s.spp,
@@ -111,7 +112,8 @@ def evaluate(model: GuideNet, samples: Sequence[Sample], levels, clamp: float
     return result
 
 
-def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path: Path) -> None:
+def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path: Path,
+                    demodulate: bool = True) -> None:
     """One PNG: noisy | denoised | reference (tone-mapped), then each guide / 255 and each blend
     weight (grey), top row of the image up."""
     from skimage.io import imsave
@@ -119,7 +121,7 @@ def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path:
     model.eval()
     with torch.no_grad():
         f, r, a, ref = batch([sample])
-        out, guides, weights = run_model(model, f, r, a, levels, clamp)
+        out, guides, weights = run_model(model, f, r, a, levels, clamp, demodulate)
     model.train()
 
     def rgb(t: torch.Tensor) -> np.ndarray:
@@ -157,6 +159,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--kernel", type=int, default=5, help="GuideNet kernel size (default 5)")
     p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
                    help="grid levels ss:sr (default 4:4,8:8,16:16)")
+    p.add_argument("--no-demodulate", dest="demodulate", action="store_false",
+                   help="denoise radiance itself, not radiance / albedo (1-spp volume albedo is "
+                        "noisy: re-modulating by it puts noise back)")
     p.add_argument("--clamp", type=float, default=8.0,
                    help="outlier clamp of the grid (default 8, as the C++ default)")
     p.add_argument("--spp", default="1,2,4", help="input spp used for training (default 1,2,4)")
@@ -266,7 +271,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 y, x = (int(v) for v in rng.integers(0, f.shape[-1] - args.crop + 1, 2))
                 sl = (Ellipsis, slice(y, y + args.crop), slice(x, x + args.crop))
                 f, r, a, ref = f[sl], r[sl], a[sl], ref[sl]
-            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp)
+            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate)
             loss = (tonemap(result) - tonemap(ref)).abs().mean()
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
@@ -279,7 +284,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if args.max_steps and state["steps"] >= args.max_steps:
                 break
         # Without validation views the criterion is the (negated) training loss.
-        ev = evaluate(model, val, args.levels, args.clamp) if val else \
+        ev = evaluate(model, val, args.levels, args.clamp, args.demodulate) if val else \
             {"loss": math.nan, "psnr": -float(np.mean(losses))}
         state["elapsed"] += time.perf_counter() - t_epoch
         state["epoch"] = epoch
@@ -301,6 +306,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                       "scheduler": scheduler.state_dict(),
                       "config": model.config(), "channels": channels,
                       "levels": [list(l) for l in args.levels], "clamp": args.clamp,
+                      "demodulate": args.demodulate,
                       "state": state, "validation": {k: v for k, v in ev.items() if k != "rows"}}
         if is_best:
             state["best_psnr"], state["best_epoch"] = ev["psnr"], epoch
@@ -308,7 +314,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             checkpoint["validation_rows"] = ev.get("rows", [])
             _atomic_save(checkpoint, best_path)
             save_guide_maps(model, guide_sample, args.levels, args.clamp,
-                            out / "guides_best.png")
+                            out / "guides_best.png", args.demodulate)
         _atomic_save(checkpoint, last_path)
         tqdm.write(f"epoch {epoch:4d}  {state['elapsed']:7.1f} s  loss {row['train_loss']:.4f}"
                    f"  val {row['val_psnr']:.2f} dB (1spp {row['val_psnr_1spp']:.2f}, noisy "
@@ -316,7 +322,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     best = torch.load(best_path)
     model.load_state_dict(best["model"])
-    save_guide_maps(model, guide_sample, args.levels, args.clamp, out / "guides_final_best.png")
+    save_guide_maps(model, guide_sample, args.levels, args.clamp, out / "guides_final_best.png",
+                    args.demodulate)
     print(f"best epoch {best['state']['best_epoch']}: val PSNR {best['state']['best_psnr']:.3f} dB"
           f" after {state['epoch']} epochs, {state['steps']} steps, {state['elapsed']:.0f} s")
     if args.export is not None:
@@ -324,7 +331,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         path = export(model, args.export, channels, args.levels, extra_metadata={
             "ptv.weights": f"trained: {out.name}, epoch {best['state']['best_epoch']}, "
                            f"val PSNR {best['state']['best_psnr']:.2f} dB",
-            "ptv.training_command": command})
+            "ptv.training_command": command,
+            "ptv.demodulate": "1" if args.demodulate else "0"})
         print(f"exported {path} ({path.stat().st_size} bytes)")
     return 0
 
