@@ -1,5 +1,7 @@
 #include "ptvDenoiser.h"
 
+#include <cmath>
+
 #include "ptvFeatures.h"
 #include "ptvPassBuffers.h"
 #include "vtkPTVGuideNet.h"
@@ -7,6 +9,7 @@
 #include "vtkTimerLog.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <fstream>
 
@@ -107,7 +110,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     const double t1 = NowMs();
     this->Timings.Features = t1 - t0;
     const int modelLevels = this->Session.GetNumberOfLevels();
-    this->NetOutput.resize(static_cast<std::size_t>(2 * modelLevels - 1) * n);
+    this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * n);
     std::string runError;
     if (!this->Session.Run(this->Features.data(), height, width, this->NetOutput.data(),
           runError))
@@ -115,6 +118,24 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
       this->NetworkActive = false;
       this->ModelProblem = runError;
       this->RequestedModel.clear(); // retry the load next time
+    }
+    else if (this->Session.IsImageModel())
+    {
+      // An image-to-image model (the U-Net baseline): its output is the result; no grid.
+      this->Timings.GuideNet = NowMs() - t1;
+      const float* planes = this->NetOutput.data();
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          const float v = planes[c * n + k];
+          out[3 * k + c] = std::isfinite(v) && v > 0.f ? v : 0.f;
+        }
+      }
+      this->Levels = 0;
+      this->Status = "image model " + this->RequestedModel + " (" +
+        this->Session.GetExecutionProvider() + "), no grid";
+      return true;
     }
     else
     {

@@ -19,6 +19,7 @@ const char* const LevelsKey = "ptv.levels";
 const char* const GuideScaleKey = "ptv.guide_scale";
 const char* const DemodulateKey = "ptv.demodulate";
 const char* const FormatValue = "guidenet-v1";
+const char* const ImageFormatValue = "denoiser-v1"; // an image-to-image network (baseline)
 const char* const CpuProvider = "CPUExecutionProvider";
 const char* const CudaProvider = "CUDAExecutionProvider";
 
@@ -146,6 +147,7 @@ void GuideNetSession::Unload()
   this->Levels.clear();
   this->GuideScale = 255.0;
   this->Demodulate = true;
+  this->ImageOutput = false;
 }
 
 //------------------------------------------------------------------------------
@@ -180,6 +182,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   std::vector<std::pair<int, int>> levels;
   double guideScale = 255.0;
   bool demodulate = true;
+  bool image = false;
   std::string provider = CpuProvider;
   try
   {
@@ -246,10 +249,14 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       problems.push_back(std::string("metadata ") + FormatKey + " is missing (expected \"" +
         FormatValue + "\"; export with Training/ptv_training/export_onnx.py)");
     }
+    else if (value == ImageFormatValue)
+    {
+      image = true;
+    }
     else if (value != FormatValue)
     {
       problems.push_back(std::string("metadata ") + FormatKey + " is \"" + value +
-        "\", expected \"" + FormatValue + "\"");
+        "\", expected \"" + FormatValue + "\" (or \"" + ImageFormatValue + "\")");
     }
     bool haveChannels = false;
     if (!lookup(ChannelsKey, value))
@@ -268,7 +275,11 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       }
     }
     bool haveLevels = false;
-    if (!lookup(LevelsKey, value))
+    if (image)
+    {
+      // Image-to-image models output the denoised radiance: no grid levels.
+    }
+    else if (!lookup(LevelsKey, value))
     {
       problems.push_back(std::string("metadata ") + LevelsKey + " is missing");
     }
@@ -381,6 +392,11 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
         {
           problems.push_back(what + " has a dynamic channel dimension " + ShapeString(s));
         }
+        else if (image && s[1] != 3)
+        {
+          problems.push_back(what + " has " + std::to_string(s[1]) +
+            " channels, a denoiser-v1 model outputs 3 (RGB radiance)");
+        }
         else if (haveLevels && s[1] != expected)
         {
           problems.push_back("model outputs " + std::to_string(s[1]) + " channels but " +
@@ -411,6 +427,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   this->Levels = std::move(levels);
   this->GuideScale = guideScale;
   this->Demodulate = demodulate;
+  this->ImageOutput = image;
   return true;
 }
 

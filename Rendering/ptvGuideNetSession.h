@@ -8,7 +8,9 @@
  *    comma-separated metadata "ptv.input_channels";
  *  - one float output, rank 4, [1, 2L - 1, H, W], L = number of "ss:sr" pairs in "ptv.levels"
  *    (first L channels are guides in [0, 1], then L - 1 blend weights);
- *  - metadata "ptv.format" = "guidenet-v1"; optional "ptv.guide_scale" (default 255) and
+ *  - metadata "ptv.format" = "guidenet-v1"; or "denoiser-v1": an image-to-image network (the
+ *    U-Net baseline) with one output [1, 3, H, W], the denoised radiance, and no levels;
+ *    optional "ptv.guide_scale" (default 255) and
  *    "ptv.demodulate" ("1" default: the grid denoises radiance / albedo; "0": radiance).
  *
  * No ONNX Runtime type appears here: the Ort:: objects live in the .cxx (PIMPL), so this header
@@ -59,7 +61,12 @@ public:
   int GetNumberOfInputChannels() const { return static_cast<int>(this->Channels.size()); }
   const std::vector<std::string>& GetInputChannels() const { return this->Channels; }
   int GetNumberOfLevels() const { return static_cast<int>(this->Levels.size()); }
-  int GetNumberOfOutputs() const { return 2 * this->GetNumberOfLevels() - 1; }
+  int GetNumberOfOutputs() const
+  {
+    return this->ImageOutput ? 3 : 2 * this->GetNumberOfLevels() - 1;
+  }
+  /// True for a "denoiser-v1" model: its output is the denoised radiance, not grid guides.
+  bool IsImageModel() const { return this->ImageOutput; }
   /// (spatial step ss, range step sr) per level, finest first.
   const std::vector<std::pair<int, int>>& GetLevels() const { return this->Levels; }
   double GetGuideScale() const { return this->GuideScale; }
@@ -82,6 +89,7 @@ private:
   std::vector<std::pair<int, int>> Levels;
   double GuideScale = 255.0;
   bool Demodulate = true;
+  bool ImageOutput = false;
 };
 }
 

@@ -169,7 +169,7 @@ vtkImageData* vtkPTVDenoiser::GetOutput()
 void vtkPTVDenoiser::GetGuides(vtkImageData* output)
 {
   vtkInternals& in = *this->Internals;
-  if (output && in.Width > 0)
+  if (output && in.Width > 0 && in.Core.GetLevels() > 0) // none from an image model
   {
     MakeImage(output, in.Width, in.Height, "Guides", in.Core.GetLevels(),
       in.Core.GetGuides().data());

@@ -11,6 +11,10 @@ Contract: opset 17; one input ``features`` ``[1, C, H, W]`` float32 (H, W dynami
     ptv.outputs         guide0,...,guide{L-1},weight0,...,weight{L-2}
     ptv.architecture    GuideNet constructor arguments (informative)
 
+``export_image_model`` writes the U-Net baseline (``ptv_training.unet``) as "denoiser-v1": the
+same input and metadata, one output ``radiance`` ``[1, 3, H, W]`` (the denoised image; no
+``ptv.levels``/``ptv.guide_scale``).
+
 The file is written to a temporary file next to ``path`` and moved into place (atomic).
 
 CLI (random, seeded weights; useful for tests until a trained model exists)::
@@ -32,9 +36,11 @@ from .features import resolve_channels
 from .guidenet import GuideNet, count_parameters
 
 FORMAT = "guidenet-v1"
+IMAGE_FORMAT = "denoiser-v1"  # image-to-image baseline: output = denoised radiance
 OPSET = 17
 INPUT_NAME = "features"
 OUTPUT_NAME = "guides_weights"
+IMAGE_OUTPUT_NAME = "radiance"
 DEFAULT_LEVELS: Tuple[Tuple[int, int], ...] = ((4, 4), (8, 8), (16, 16))
 GUIDE_SCALE = 255
 RESERVED_KEYS = ("ptv.format", "ptv.input_channels", "ptv.levels", "ptv.guide_scale",
@@ -85,21 +91,50 @@ def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
            levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
            extra_metadata: Optional[Mapping[str, str]] = None) -> Path:
     """Write ``model`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the path."""
+    props = metadata(model, channels, levels, extra_metadata)
+    doc = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
+           f"{count_parameters(model)} parameters)")
+    return _write(model, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
+
+
+def export_image_model(model: torch.nn.Module, path: str | os.PathLike,
+                       channels: Sequence[str],
+                       extra_metadata: Optional[Mapping[str, str]] = None) -> Path:
+    """Write an image-to-image denoiser (``ptv_training.unet.UNet``: features -> radiance
+    ``[1, 3, H, W]``) as a denoiser-v1 ONNX file (atomically); returns the path."""
+    channels = list(channels)
+    resolve_channels(channels)
+    if len(channels) != model.in_channels:
+        raise ValueError(f"{len(channels)} channel names for a model with "
+                         f"{model.in_channels} input channels")
+    props = {"ptv.format": IMAGE_FORMAT, "ptv.input_channels": ",".join(channels),
+             "ptv.outputs": "radiance.r,radiance.g,radiance.b",
+             "ptv.architecture": ",".join(f"{k}={v}" for k, v in model.config().items())}
+    for key, value in (extra_metadata or {}).items():
+        if key in RESERVED_KEYS:
+            raise ValueError(f"extra_metadata must not override {key!r}")
+        props[str(key)] = str(value)
+    params = sum(p.numel() for p in model.parameters())
+    doc = f"PathTracedVolume image denoiser ({props['ptv.architecture']}, {params} parameters)"
+    return _write(model, model.in_channels, IMAGE_OUTPUT_NAME, props, doc, Path(path))
+
+
+def _write(model: torch.nn.Module, in_channels: int, output_name: str, props: Dict[str, str],
+           doc: str, path: Path) -> Path:
+    """Trace ``model`` (opset 17, dynamic H and W), attach ``props``, check, write atomically."""
     import onnx  # local: keeps `import ptv_training.*` free of onnx/protobuf
 
-    props = metadata(model, channels, levels, extra_metadata)
-    path = Path(path)
     was_training = model.training
     model.eval()
     try:
-        dummy = torch.zeros(1, model.in_channels, 16, 24, dtype=torch.float32)
+        dummy = torch.zeros(1, in_channels, 16, 24, dtype=torch.float32)
         buffer = io.BytesIO()
         with torch.no_grad():
             torch.onnx.export(
                 model, dummy, buffer, opset_version=OPSET, export_params=True,
-                do_constant_folding=True, input_names=[INPUT_NAME], output_names=[OUTPUT_NAME],
+                do_constant_folding=True, input_names=[INPUT_NAME], output_names=[output_name],
                 dynamic_axes={INPUT_NAME: {2: "height", 3: "width"},
-                              OUTPUT_NAME: {2: "height", 3: "width"}})
+                              output_name: {2: "height", 3: "width"}})
     finally:
         model.train(was_training)
     proto = onnx.load_from_string(buffer.getvalue())
@@ -108,8 +143,7 @@ def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
         entry = proto.metadata_props.add()
         entry.key = key
         entry.value = value
-    proto.doc_string = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
-                        f"{count_parameters(model)} parameters)")
+    proto.doc_string = doc
     onnx.checker.check_model(proto)
     data = proto.SerializeToString()
 

@@ -48,7 +48,10 @@ from .data import (Sample, batch, load_samples, psnr, split_views, tonemap,  # n
                    tonemap_np)
 from .export_onnx import levels_string, parse_levels  # noqa: E402
 from .features import resolve_channels  # noqa: E402
-from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
+from .guidenet import GuideNet, count_parameters  # noqa: E402
+from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
+from .unet import UNet  # noqa: E402
+from .unet import macs_per_pixel as unet_macs  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v1"
@@ -56,9 +59,16 @@ LOG_FIELDS = ["epoch", "steps", "elapsed_s", "train_loss", "val_loss", "val_psnr
               "val_psnr_1spp", "val_psnr_2spp", "val_psnr_4spp", "noisy_psnr_1spp", "lr", "best"]
 
 
-def run_model(model: GuideNet, features: torch.Tensor, radiance: torch.Tensor,
+def macs_per_pixel(model: GuideNet | UNet) -> int:
+    return unet_macs(model) if isinstance(model, UNet) else guidenet_macs(model)
+
+
+def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Tensor,
               albedo: torch.Tensor, levels: Sequence, clamp: float, demodulate: bool = True):
-    """(denoised radiance, guides in [0, 255], weights) of a batch."""
+    """(denoised radiance, guides in [0, 255], weights) of a batch; an image-to-image model
+    (the U-Net baseline) gives (its output, None, None)."""
+    if isinstance(model, UNet):
+        return model(features), None, None
     guides, weights = model.split(model(features))
     guides = guides * 255.0
     out = denoise(radiance, albedo if demodulate else None, guides,
@@ -132,8 +142,11 @@ def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path:
         return np.repeat(g[:, :, None], 3, axis=2)
 
     top = [rgb(r), rgb(out), rgb(ref)]
-    bottom = [grey(guides[0, i] / 255.0) for i in range(guides.shape[1])]
-    bottom += [grey(weights[0, i]) for i in range(weights.shape[1])]
+    bottom = []  # guides and blend weights (none for an image-to-image model)
+    if guides is not None:
+        bottom += [grey(guides[0, i] / 255.0) for i in range(guides.shape[1])]
+    if weights is not None:
+        bottom += [grey(weights[0, i]) for i in range(weights.shape[1])]
     width = max(len(top), len(bottom))
     blank = np.zeros_like(top[0])
     top += [blank] * (width - len(top))
@@ -155,6 +168,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="run folder (checkpoints, log.csv, guide maps)")
     p.add_argument("--channels", default="VOLUME_FEATURES",
                    help="feature preset or comma-separated channels (default: VOLUME_FEATURES)")
+    p.add_argument("--arch", choices=("guidenet", "unet"), default="guidenet",
+                   help="guidenet (bilateral grid, default) or unet (the image-to-image baseline "
+                        "of Hofmann et al. 2020; ignores --hidden/--kernel/--levels)")
+    p.add_argument("--width", type=int, default=16, help="U-Net base width (default 16)")
     p.add_argument("--hidden", type=int, default=16, help="GuideNet hidden channels (default 16)")
     p.add_argument("--kernel", type=int, default=5, help="GuideNet kernel size (default 5)")
     p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
@@ -167,6 +184,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--spp", default="1,2,4", help="input spp used for training (default 1,2,4)")
     p.add_argument("--val-per-dataset", type=int, default=3,
                    help="views per dataset held out for validation (default 3)")
+    p.add_argument("--exclude", nargs="*", default=[], metavar="DATASET",
+                   help="train without these datasets' views (leave-one-out); validation "
+                        "still covers every dataset")
     p.add_argument("--max-views", type=int, default=0,
                    help="use at most this many training views (0 = all; for smoke tests)")
     p.add_argument("--batch", type=int, default=4, help="samples per step (default 4)")
@@ -204,6 +224,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     command = " ".join(sys.argv if argv is None else ["train.py", *map(str, argv)])
 
     train_files, val_files, manifest = split_views(args.data, args.val_per_dataset)
+    if args.exclude:
+        dataset_of = {args.data / r["file"]: r["view"]["dataset"] for r in manifest["views"]}
+        unknown = set(args.exclude) - set(dataset_of.values())
+        if unknown:
+            raise SystemExit(f"--exclude: no views of {sorted(unknown)} in {args.data}")
+        train_files = [f for f in train_files if dataset_of[f] not in args.exclude]
     if args.max_views:
         train_files = train_files[:args.max_views]
     progress = not args.no_progress
@@ -213,8 +239,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         raise SystemExit("no training views")
 
     torch.manual_seed(args.seed)
-    model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
-                     levels=len(args.levels))
+    if args.arch == "unet":
+        model: GuideNet | UNet = UNet(len(channels), width=args.width)
+    else:
+        model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
+                         levels=len(args.levels))
     optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
         optimizer, mode="max", factor=0.5, patience=max(args.lr_patience, 1), threshold=0.01,
@@ -327,12 +356,15 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     print(f"best epoch {best['state']['best_epoch']}: val PSNR {best['state']['best_psnr']:.3f} dB"
           f" after {state['epoch']} epochs, {state['steps']} steps, {state['elapsed']:.0f} s")
     if args.export is not None:
-        from .export_onnx import export
-        path = export(model, args.export, channels, args.levels, extra_metadata={
-            "ptv.weights": f"trained: {out.name}, epoch {best['state']['best_epoch']}, "
-                           f"val PSNR {best['state']['best_psnr']:.2f} dB",
-            "ptv.training_command": command,
-            "ptv.demodulate": "1" if args.demodulate else "0"})
+        from .export_onnx import export, export_image_model
+        extra = {"ptv.weights": f"trained: {out.name}, epoch {best['state']['best_epoch']}, "
+                                f"val PSNR {best['state']['best_psnr']:.2f} dB",
+                 "ptv.training_command": command}
+        if isinstance(model, UNet):
+            path = export_image_model(model, args.export, channels, extra_metadata=extra)
+        else:
+            extra["ptv.demodulate"] = "1" if args.demodulate else "0"
+            path = export(model, args.export, channels, args.levels, extra_metadata=extra)
         print(f"exported {path} ({path.stat().st_size} bytes)")
     return 0
 
