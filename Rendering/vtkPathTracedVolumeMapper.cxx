@@ -231,6 +231,43 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
 }
 
 //------------------------------------------------------------------------------
+bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
+{
+  if (!output)
+  {
+    vtkErrorMacro(<< "GetPasses needs an output vtkImageData.");
+    return false;
+  }
+  if (this->AccumulatedFrames == 0)
+  {
+    vtkErrorMacro(<< "Passes are not available before the first render.");
+    return false;
+  }
+  const ptv::PassBuffers& acc = this->Internals->Accumulated;
+  const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
+  output->Initialize();
+  output->SetDimensions(acc.GetWidth(), acc.GetHeight(), 1);
+  output->SetOrigin(0, 0, 0);
+  output->SetSpacing(1, 1, 1);
+  for (int pass = 0; pass < ptv::PassCount; ++pass)
+  {
+    if (pass >= ptv::kTracedPassCount && !this->Internals->DenoisedValid)
+    {
+      continue;
+    }
+    const int comps = ptv::GetPassInfo(pass).Components;
+    vtkNew<vtkFloatArray> array;
+    array->SetName(ptv::GetPassInfo(pass).Name);
+    array->SetNumberOfComponents(comps);
+    array->SetNumberOfTuples(n);
+    std::copy(acc.Data(pass), acc.Data(pass) + n * comps, array->GetPointer(0));
+    output->GetPointData()->AddArray(array);
+  }
+  output->GetPointData()->SetActiveScalars(ptv::GetPassInfo(0).Name);
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
   vtkInternals& in = *this->Internals;
@@ -439,6 +476,7 @@ void vtkPathTracedVolumeMapper::DenoiseFrame(int width, int height)
   settings.Levels = this->DenoiserNumberOfLevels;
   settings.UseNetwork = this->DenoiserUseNetwork;
   settings.Threads = this->NumberOfThreads;
+  settings.UseCuda = in.ActiveBackend == "CUDA"; // the grid follows the tracer's backend
   ptv::PassBuffers& acc = in.Accumulated;
   const float* passes[ptv::PassCount] = {};
   for (int p = 0; p < ptv::kTracedPassCount; ++p)

@@ -206,6 +206,15 @@ public:
    */
   bool GetPass(const char* name, vtkImageData* output);
 
+  /**
+   * Copy every available pass of the current accumulation into @a output: one float point-data
+   * array per pass, named after it, on the viewport's pixels (as GetPass()), "Radiance" the
+   * active scalars. The denoiser's passes (Denoised, Guides, BlendWeights) are included when
+   * the last frame was denoised. Ready for vtkPTVEXRPassWriter. Returns false with an error
+   * before the first render.
+   */
+  bool GetPasses(vtkImageData* output);
+
   ///@{
   /**
    * Where frames are traced: BACKEND_AUTO (default: CUDA when this build has it and a usable
