@@ -19,11 +19,10 @@ import os
 import platform
 import statistics
 import sys
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import ptvbench as pb  # noqa: E402  (appends <repo>/Python after PYTHONPATH)
 
 from tqdm import tqdm  # noqa: E402
 
@@ -39,22 +38,17 @@ def parse_args() -> argparse.Namespace:
 
 def build_scene(dataset: str, size: int):
     from vtkmodules.vtkIOXML import vtkXMLImageDataReader
-    from vtkmodules.vtkRenderingCore import (vtkRenderer, vtkRenderWindow, vtkVolume,
-                                             vtkVolumeProperty)
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
     from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
     import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
     import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
     from pathtracedvolume import vtkPathTracedVolumeMapper
     from pathtracedvolume.datasets import dataset_path
-    from pathtracedvolume.presets import apply_preset, find_preset
 
     reader = vtkXMLImageDataReader()
     reader.SetFileName(str(dataset_path(dataset)))
     reader.Update()
-    prop = vtkVolumeProperty()
-    apply_preset(find_preset(f"{dataset.capitalize()} Two-Band (paper)"), prop)
-    prop.ShadeOn()
-    prop.SetInterpolationTypeToLinear()
+    prop = pb.make_property(pb.paper_preset(dataset))
 
     ours = vtkPathTracedVolumeMapper()
     ours.DenoiseOff()  # the tracer against the stock mapper; the denoiser has its own benchmark
@@ -82,13 +76,7 @@ def build_scene(dataset: str, size: int):
 
 
 def median_ms(fn, repeats: int) -> float:
-    fn()  # warm-up
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(1000.0 * (time.perf_counter() - start))
-    return statistics.median(times)
+    return pb.timed(fn, repeats)[0]
 
 
 def measure(dataset: str, size: int, repeats: int) -> dict:

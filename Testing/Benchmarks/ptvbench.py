@@ -1,0 +1,278 @@
+"""Shared pieces of the benchmarks: scene set-up, pass capture, our denoiser and OIDN on the same
+passes, the tone map and metrics of DESIGN.md section 7, and median timing.
+
+Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb) for rendering;
+the metrics and timing helpers are plain NumPy. VTK is imported lazily, so importing this module
+is cheap.
+"""
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, TypeVar, Union
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT / "Python") not in sys.path:
+    sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
+
+PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
+          "ScatterDepth", "ScatterPosition", "ScatterNormal"]
+BACKGROUND = (0.32, 0.34, 0.43)
+STAGES = ("features", "guidenet", "splat", "slice")
+
+T = TypeVar("T")
+Passes = Dict[str, np.ndarray]
+
+
+# --- metrics and timing -------------------------------------------------------------------
+def tonemap(x: np.ndarray) -> np.ndarray:
+    """``clip(max(0, x)^(1/2.2), 0, 1)`` (NaN maps to 0)."""
+    return np.clip(np.power(np.maximum(np.nan_to_num(np.asarray(x, np.float32)), 0.0),
+                            1.0 / 2.2), 0.0, 1.0)
+
+
+def quality(reference: np.ndarray, image: np.ndarray) -> Tuple[float, float]:
+    """(PSNR, SSIM) of the tone-mapped image against the tone-mapped reference (scikit-image,
+    data_range 1). SSIM uses the largest odd window that fits (7 for ordinary images)."""
+    from skimage.metrics import peak_signal_noise_ratio, structural_similarity
+    ref, img = tonemap(reference), tonemap(image)
+    psnr = float(peak_signal_noise_ratio(ref, img, data_range=1.0))
+    win = min(7, *ref.shape[:2])
+    win -= 1 - win % 2
+    ssim = (float(structural_similarity(ref, img, data_range=1.0, channel_axis=2, win_size=win))
+            if win >= 3 else float("nan"))
+    return psnr, ssim
+
+
+def timed(fn: Callable[[], T], repeats: int) -> Tuple[float, T]:
+    """(median milliseconds of ``repeats`` calls after one warm-up, the last result)."""
+    result = fn()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = fn()
+        times.append(1000.0 * (time.perf_counter() - start))
+    return statistics.median(times), result
+
+
+# --- scenes -------------------------------------------------------------------------------
+def load_dataset(name: str) -> Any:
+    """The dataset's ``.vti`` (``pathtracedvolume.datasets``) as an updated vtkImageData."""
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+    from pathtracedvolume.datasets import dataset_path
+
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(str(dataset_path(name)))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def paper_preset(dataset: str) -> Dict[str, Any]:
+    """The dataset's "<Dataset> Two-Band (paper)" preset."""
+    from pathtracedvolume.presets import find_preset
+    return find_preset(f"{dataset.capitalize()} Two-Band (paper)")
+
+
+def make_property(preset: Mapping[str, Any], shade: bool = True) -> Any:
+    """A vtkVolumeProperty with the preset's functions, linear interpolation, shading on."""
+    from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+    from pathtracedvolume.presets import apply_preset
+
+    prop = vtkVolumeProperty()
+    apply_preset(preset, prop)
+    prop.SetShade(int(shade))
+    prop.SetInterpolationTypeToLinear()
+    return prop
+
+
+class BenchScene:
+    """One volume under vtkPathTracedVolumeMapper (Denoise off) in an offscreen window.
+
+    The camera starts as in ``scripts/render.py``: from -y with +z up, then ``azimuth`` /
+    ``elevation`` (degrees) and ResetCamera; :meth:`orbit` sets another view. The key light is
+    the mapper's default (a point light above the volume) times ``light_intensity``.
+    """
+
+    def __init__(self, volume: Any, prop: Any, size: Tuple[int, int] = (256, 256),
+                 azimuth: float = 30.0, elevation: float = 10.0, threads: int = 0,
+                 light_intensity: float = 1.0, background: Sequence[float] = BACKGROUND
+                 ) -> None:
+        from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+        from pathtracedvolume import vtkPathTracedVolumeMapper
+
+        self.size = (int(size[0]), int(size[1]))
+        self.mapper = vtkPathTracedVolumeMapper()
+        if hasattr(volume, "GetOutputPort"):
+            self.mapper.SetInputConnection(volume.GetOutputPort())
+        else:
+            self.mapper.SetInputData(volume)
+        self.mapper.DenoiseOff()
+        self.mapper.SetNumberOfThreads(int(threads))
+        self.mapper.SetLightIntensity(float(light_intensity))
+        self.volume = vtkVolume()
+        self.volume.SetMapper(self.mapper)
+        self.volume.SetProperty(prop)
+        self.prop = prop
+        self.renderer = vtkRenderer()
+        self.renderer.AddVolume(self.volume)
+        self.renderer.SetBackground(*background)
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(*self.size)
+        self.window.AddRenderer(self.renderer)
+        self.orbit(azimuth, elevation)
+
+    def orbit(self, azimuth: float, elevation: float = 10.0, dolly: float = 1.0) -> None:
+        """Camera from -y (up +z), rotated by ``azimuth`` then ``elevation``, reset to fit."""
+        camera = self.renderer.GetActiveCamera()
+        camera.SetPosition(0, -1, 0)
+        camera.SetFocalPoint(0, 0, 0)
+        camera.SetViewUp(0, 0, 1)
+        camera.Azimuth(float(azimuth))
+        camera.Elevation(float(elevation))
+        camera.OrthogonalizeViewUp()
+        self.renderer.ResetCamera()
+        camera.Dolly(float(dolly))
+        self.renderer.ResetCameraClippingRange()
+
+    def render(self, seed: int, frames: int = 1,
+               on_frame: Optional[Callable[[int], None]] = None) -> list:
+        """Start a fresh accumulation with ``seed`` and render ``frames`` 1-spp frames; returns
+        each frame's trace milliseconds; ``on_frame(k)`` after frame k (1-based)."""
+        self.mapper.SetSeed(int(seed))
+        self.mapper.SetMaximumAccumulatedFrames(max(int(frames), 1))
+        self.mapper.ResetAccumulation()
+        times = []
+        for k in range(1, frames + 1):
+            self.window.Render()
+            times.append(float(self.mapper.GetLastTraceTime()))
+            if on_frame is not None:
+                on_frame(k)
+        return times
+
+    def grab(self, name: str = "Radiance") -> np.ndarray:
+        """Pass ``name`` of the current accumulation as (H, W, C) float32, bottom row first."""
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+
+        image = vtkImageData()
+        if not self.mapper.GetPass(name, image):
+            raise RuntimeError(f"no pass {name!r}")
+        w, h, _ = image.GetDimensions()
+        return np.array(vtk_to_numpy(image.GetPointData().GetArray(name)),
+                        dtype=np.float32).reshape(h, w, -1)
+
+    def passes(self) -> Passes:
+        """Every pass of the current accumulation."""
+        return {name: self.grab(name) for name in PASSES}
+
+
+def scene_for(dataset: str, size: Tuple[int, int], **kwargs: Any) -> BenchScene:
+    """A :class:`BenchScene` of a bundled dataset with its paper preset."""
+    return BenchScene(load_dataset(dataset), make_property(paper_preset(dataset)), size, **kwargs)
+
+
+# --- denoisers on captured passes ---------------------------------------------------------
+def _image(array: np.ndarray, name: str) -> Any:
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    a = np.ascontiguousarray(array, dtype=np.float32)
+    h, w = a.shape[:2]
+    arr = numpy_to_vtk(a.reshape(h * w, -1), deep=1)
+    arr.SetName(name)
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    image.GetPointData().SetScalars(arr)
+    return image
+
+
+class Ours:
+    """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels."""
+
+    def __init__(self, levels: int = 0, model: str = "", threads: int = 0) -> None:
+        from pathtracedvolume import vtkPTVDenoiser
+        self.den = vtkPTVDenoiser()
+        self.den.SetModelFile(model)
+        self.den.SetNumberOfLevels(int(levels))
+        self.den.SetNumberOfThreads(int(threads))
+        self._keep: list = []
+
+    def set_passes(self, passes: Passes) -> None:
+        self._keep = [_image(passes[name], name) for name in PASSES]
+        for name, image in zip(PASSES, self._keep):
+            self.den.SetImage(name, image)
+
+    def execute(self) -> np.ndarray:
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        if not self.den.Execute():
+            raise RuntimeError("vtkPTVDenoiser failed")
+        out = self.den.GetOutput()
+        w, h, _ = out.GetDimensions()
+        return np.array(vtk_to_numpy(out.GetPointData().GetArray("Denoised"))).reshape(h, w, 3)
+
+    def stages(self) -> Dict[str, float]:
+        """Milliseconds of the last Execute() per stage."""
+        d = self.den
+        return {"features": d.GetLastFeatureTime(), "guidenet": d.GetLastGuideNetTime(),
+                "splat": d.GetLastSplatTime(), "slice": d.GetLastSliceTime()}
+
+    def __call__(self, passes: Passes) -> np.ndarray:
+        self.set_passes(passes)
+        return self.execute()
+
+    def status(self) -> str:
+        return str(self.den.GetStatus())
+
+
+def run_ours(passes: Passes, levels: int, model: str, repeats: int,
+             threads: int = 0) -> Dict[str, Any]:
+    """Our denoiser on ``passes``: median ms (and per stage) of ``repeats`` after a warm-up."""
+    ours = Ours(levels, model, threads)
+    ours.set_passes(passes)
+    stages: Dict[str, list] = {k: [] for k in STAGES}
+
+    def once() -> np.ndarray:
+        out = ours.execute()
+        for k, v in ours.stages().items():
+            stages[k].append(v)
+        return out
+
+    ms, out = timed(once, repeats)
+    row: Dict[str, Any] = {k: statistics.median(v[1:]) for k, v in stages.items()}
+    row.update(ms=ms, image=out.copy(), status=ours.status())
+    return row
+
+
+def oidn(passes: Passes, quality_name: str = "fast") -> np.ndarray:
+    """pyoidn's RT filter: HDR colour + albedo + normal (the 1-spp auxiliary passes)."""
+    import pyoidn
+    color = np.ascontiguousarray(np.maximum(np.nan_to_num(passes["Radiance"]), 0), np.float32)
+    albedo = np.ascontiguousarray(np.clip(passes["Albedo"], 0, 1), np.float32)
+    normal = np.ascontiguousarray(np.clip(np.nan_to_num(passes["Normal"]), -1, 1), np.float32)
+    return pyoidn.denoise(color, albedo, normal, hdr=True, quality=quality_name)
+
+
+def run_oidn(passes: Passes, quality_name: str, repeats: int) -> Dict[str, Any]:
+    """OIDN on ``passes``: median ms of ``repeats`` after a warm-up."""
+    ms, out = timed(lambda: oidn(passes, quality_name), repeats)
+    return {"ms": ms, "image": out}
+
+
+def as_png(image: np.ndarray, path: Union[str, Path], width: Optional[int] = None) -> None:
+    """Tone-mapped (H, W, 3) VTK-order image (bottom row first) to an 8-bit PNG, optionally
+    resized to ``width`` pixels (nearest neighbour, keeps the aspect)."""
+    import matplotlib.image as mpimg
+    img = tonemap(image)[::-1]
+    if width is not None and img.shape[1] != width:
+        h, w = img.shape[:2]
+        height = max(1, round(h * width / w))
+        rows = np.minimum((np.arange(height) + 0.5) * h / height, h - 1).astype(int)
+        cols = np.minimum((np.arange(width) + 0.5) * w / width, w - 1).astype(int)
+        img = img[rows][:, cols]
+    mpimg.imsave(str(path), (img * 255 + 0.5).astype(np.uint8))
