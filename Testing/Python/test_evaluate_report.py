@@ -1,0 +1,102 @@
+"""Smoke test of the evaluation report: ``Testing/Benchmarks/evaluate_report.py --quick`` runs end
+to end on tiny images (every section: Table 1, training tables, temporal stability, stress suite,
+timing) and writes a well-formed report, so the script cannot rot.
+
+Checks: exit status 0 without VTK errors/warnings; report.md has every section and every image
+it links exists; every CSV parses with a header and rows of the same width; results.json loads;
+Table 1 has every method for every dataset with finite PSNR; every stress case ran and each
+output image is finite. No timing or quality thresholds (tiny images: only correctness).
+Needs a display (ctest runs under Xvfb) and the built package on PYTHONPATH.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+pytest.importorskip("pyoidn")
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "Testing" / "Benchmarks" / "evaluate_report.py"
+METHODS = ("1 spp", "2 spp", "4 spp", "8 spp", "ours 1 level", "ours 3 levels", "OIDN fast",
+           "OIDN balanced")
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    base = os.environ.get("PTV_TEST_TEMP")
+    out = (Path(base) if base else tmp_path_factory.mktemp("report")) / "evaluate_report_quick"
+    shutil.rmtree(out, ignore_errors=True)
+    run = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--no-cache", "--out", str(out)],
+                         capture_output=True, text=True, timeout=600, cwd=ROOT)
+    log = (run.stdout + run.stderr)[-4000:]
+    assert run.returncode == 0, log
+    for pattern in ("ERROR: In", "Warning: In", "Traceback"):
+        assert pattern not in run.stdout + run.stderr, log
+    return out
+
+
+def test_help() -> None:
+    run = subprocess.run([sys.executable, str(SCRIPT), "--help"], capture_output=True, text=True,
+                         timeout=120, cwd=ROOT)
+    assert run.returncode == 0
+    for option in ("--size", "--views", "--ref-spp", "--out", "--quick"):
+        assert option in run.stdout
+
+
+def test_report_markdown(report: Path) -> None:
+    text = (report / "report.md").read_text()
+    for heading in ("# PathTracedVolume evaluation report", "## 1. Paper Table 1",
+                    "## 2. PSNR against time", "## 3. Paper Tables 2, 3, 4",
+                    "## 4. Temporal stability", "## 5. Stress suite",
+                    "## 6. Where the time goes", "evaluate_report.py --quick"):
+        assert heading in text
+    assert "median of 1 repeats" in text
+    links = re.findall(r"\]\(([^)]+)\)", text)
+    assert any(link.endswith(".png") for link in links)
+    for link in links:
+        assert (report / link).is_file(), link
+
+
+def test_csv_and_json(report: Path) -> None:
+    files = sorted(report.glob("*.csv"))
+    assert {f.name for f in files} >= {"table1.csv", "speedup.csv", "stress.csv",
+                                       "temporal_static.csv", "temporal_orbit.csv",
+                                       "timing_image_size.csv", "timing_threads.csv"}
+    for path in files:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+        assert len(rows) >= 2, path
+        assert all(len(r) == len(rows[0]) for r in rows), path
+    results = json.loads((report / "results.json").read_text())
+    assert results["machine"]["cores"]
+
+
+def test_table1_complete(report: Path) -> None:
+    with open(report / "table1.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    for dataset in ("head", "stent", "concrete"):
+        got = {r["method"]: r for r in rows if r["dataset"] == dataset}
+        assert set(METHODS) <= set(got), (dataset, sorted(got))
+        for r in got.values():
+            assert math.isfinite(float(r["psnr"])) and float(r["frame_ms"]) >= 0
+
+
+def test_stress_outputs_finite(report: Path) -> None:
+    with open(report / "stress.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    cases = {r["case"] for r in rows}
+    assert {"translucent", "fireflies", "8×8", "1000×7", "mostly empty",
+            "unseen volume"} <= cases
+    for r in rows:
+        for key in ("noisy finite", "ours finite", "OIDN fast finite"):
+            assert r[key] == "True", (r["case"], key)
