@@ -3,10 +3,15 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPTVEXRPassWriter.h"
+#include "vtkPVSession.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
 #include "vtkPathTracedVolumeMapper.h"
+#include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
 
 #include <cstring>
@@ -19,10 +24,16 @@ vtkPTVVolumeRepresentation::vtkPTVVolumeRepresentation()
   // The base class made a vtkMultiBlockVolumeMapper; UpdateMapperParameters() (called by the
   // base class on every render request) gives whatever VolumeMapper holds to the actor.
   this->VolumeMapper.TakeReference(vtkPathTracedVolumeMapper::New());
+  // The environment light takes the view's Background property (REQUEST_RENDER below), not the
+  // renderer's background: on a pvserver the compositing pass renders on another background.
+  this->GetPathTracedMapper()->SetUseBackgroundAsEnvironment(false);
 }
 
 //------------------------------------------------------------------------------
-vtkPTVVolumeRepresentation::~vtkPTVVolumeRepresentation() = default;
+vtkPTVVolumeRepresentation::~vtkPTVVolumeRepresentation()
+{
+  this->SetPassesFileName(nullptr);
+}
 
 //------------------------------------------------------------------------------
 vtkPathTracedVolumeMapper* vtkPTVVolumeRepresentation::GetPathTracedMapper()
@@ -44,6 +55,13 @@ int vtkPTVVolumeRepresentation::ProcessViewRequest(
     // for streamed pieces by vtkSMRenderViewProxy::StreamingUpdate(). Always streamable, so that
     // ProgressiveRefinement takes effect without a new update; it gates the pieces below.
     vtkPVRenderView::SetStreamable(inInfo, this, true);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER() && !this->UnsupportedInput)
+  {
+    if (auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW())))
+    {
+      this->GetPathTracedMapper()->SetEnvironmentColor(view->GetBackground());
+    }
   }
   else if (request_type == vtkPVView::REQUEST_RENDER() && this->UnsupportedInput)
   {
@@ -218,12 +236,63 @@ const char* vtkPTVVolumeRepresentation::GetDenoiserStatus()
 }
 
 //------------------------------------------------------------------------------
+const char* vtkPTVVolumeRepresentation::GetActiveBackend()
+{
+  return this->GetPathTracedMapper()->GetActiveBackend();
+}
+
+//------------------------------------------------------------------------------
+bool vtkPTVVolumeRepresentation::WritePasses()
+{
+  // The client of a remote session does not render (remote rendering) or is not where the
+  // command is meant to run: the server writes. Satellite ranks hold only their piece.
+  vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
+  vtkPVSession* session = pm ? vtkPVSession::SafeDownCast(pm->GetActiveSession()) : nullptr;
+  if (session && !session->HasProcessRole(vtkPVSession::RENDER_SERVER))
+  {
+    return true;
+  }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetLocalProcessId() > 0)
+  {
+    return true;
+  }
+  if (!this->PassesFileName || !*this->PassesFileName)
+  {
+    vtkErrorMacro(<< "WritePasses: PassesFileName is empty; set it to the .exr file to write.");
+    return false;
+  }
+  vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
+  if (mapper->GetAccumulatedFrames() == 0)
+  {
+    const char* hint = (session && !session->HasProcessRole(vtkPVSession::CLIENT))
+      ? " (in client/server mode the view may render on the client, local rendering: set its "
+        "RemoteRenderThreshold to 0 to render on the server)."
+      : ".";
+    vtkErrorMacro(<< "WritePasses: no frame has been traced here yet, nothing to write to '"
+                  << this->PassesFileName << "'. Render the view first" << hint);
+    return false;
+  }
+  vtkNew<vtkImageData> passes;
+  if (!mapper->GetPasses(passes))
+  {
+    return false;
+  }
+  vtkNew<vtkPTVEXRPassWriter> writer;
+  writer->SetFileName(this->PassesFileName);
+  writer->SetInputData(passes);
+  return writer->Write() == 1;
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << endl;
   os << indent << "UnsupportedInput: " << this->UnsupportedInput << endl;
   os << indent << "DisplayPass: " << this->GetDisplayPass() << endl;
+  os << indent << "PassesFileName: " << (this->PassesFileName ? this->PassesFileName : "(none)")
+     << endl;
   os << indent << "PathTracedMapper:" << endl;
   this->GetPathTracedMapper()->PrintSelf(os, indent.GetNextIndent());
 }

@@ -22,6 +22,10 @@
  * MaximumAccumulatedFrames is reached. The ParaView GUI drives these passes only when streaming
  * is enabled (Settings > General > Enable Streaming); scripts call StreamingUpdate themselves.
  *
+ * The environment light's colour is the view's Background property (set on the mapper before
+ * each render, UseBackgroundAsEnvironment off), so that a pvserver, whose compositing renders on
+ * another background, lights the volume as the builtin session does.
+ *
  * Only vtkImageData is rendered. A vtkRectilinearGrid input (which ParaView's image-data
  * representation also takes) is reported as an error and shows nothing; resample it to an image
  * first. Partitioned datasets get the base class's warning.
@@ -102,6 +106,31 @@ public:
   const char* GetDenoiserStatus();
   ///@}
 
+  /// "CPU" or "CUDA": where the last frame was traced ("none" before the first).
+  const char* GetActiveBackend();
+
+  ///@{
+  /**
+   * Where WritePasses() writes: an .exr file (on the server in client/server mode). Default: none.
+   */
+  vtkSetStringMacro(PassesFileName);
+  vtkGetStringMacro(PassesFileName);
+  ///@}
+
+  /**
+   * Write every render pass of the current frame (vtkPathTracedVolumeMapper::GetPasses()) to
+   * PassesFileName as one multi-channel float EXR (vtkPTVEXRPassWriter: atomic, conventional
+   * channel names). Errors (no file name, nothing rendered yet, unwritable path) are reported
+   * with vtkErrorMacro and return false.
+   *
+   * ParaView sends the command to every process that holds the representation. It is done by
+   * the processes that render: the server when connected to one (only its first rank; the
+   * client of a remote session does nothing and returns true), the single process otherwise.
+   * With client/server local rendering (data under the remote-render threshold) the server has
+   * not traced a frame: its error says so (set the view's RemoteRenderThreshold to 0).
+   */
+  bool WritePasses();
+
   /**
    * Whether another streaming pass would trace a new frame: the volume is shown, the last render
    * traced a frame and fewer than MaximumAccumulatedFrames have been accumulated.
@@ -124,6 +153,7 @@ protected:
 
   bool ProgressiveRefinement = true;
   bool UnsupportedInput = false;
+  char* PassesFileName = nullptr;
 
   /// Empty image handed to the view as the "next streamed piece" while refinement goes on.
   vtkNew<vtkImageData> RefinementToken;

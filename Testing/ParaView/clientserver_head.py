@@ -1,0 +1,255 @@
+"""pvpython test: the "Path Traced Volume" representation through a real pvserver on 127.0.0.1.
+
+Run as ``pvpython --force-offscreen-rendering clientserver_head.py`` with ``PTV_PLUGIN``,
+``PTV_SOURCE_DIR``, ``PTV_CACHE_DIR`` and ``PTV_TEST_TEMP`` set and a display (ctest runs it
+under Xvfb; pvserver renders offscreen on the same display). Not a ``test_*.py``: pvbatch cannot
+connect to a server, so Testing/CMakeLists.txt registers this file with pvpython.
+
+1. builtin session: the head CT, "Head Two-Band (paper)", 8 accumulated frames at 160x160,
+   fixed-guide denoiser; screenshot, WritePasses (PassesFileName) -> builtin.exr;
+2. pvserver --server-port=<free port> --hostname=127.0.0.1 --force-offscreen-rendering, then
+   Connect('127.0.0.1', port); the plugin loaded on the server (remote=True) and the client
+   (remote=False); the same scene (the representation requires remote rendering); checks:
+   progressive refinement through streaming passes; the screenshot is not blank and matches the
+   builtin one (the tolerance absorbs image delivery); WritePasses runs on the server and its EXR
+   holds bit-identical passes (the tracer is deterministic; this also shows that the server lit
+   the volume with the view's background as environment, as the builtin session does).
+   The information-only properties (AccumulatedFrames, LastRenderTraced, ActiveBackend,
+   DenoiserStatus) are checked in the builtin session only: ParaView pulls information-only
+   properties of a proxy that also lives on the client from the client's object, which never
+   renders in client/server mode, so there they read 0 / "none" (printed, not checked);
+3. the server is stopped (also on failure, from ``finally``) and its log must hold no error.
+Exits non-zero on any failed check; prints PASS at the end.
+"""
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import threading
+import time
+from typing import List, Optional
+
+import numpy as np
+
+from paraview.simple import *  # noqa: F401,F403 (pvpython convention)
+
+PLUGIN = os.environ["PTV_PLUGIN"]
+SOURCE_DIR = os.environ["PTV_SOURCE_DIR"]
+HEAD = os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")
+TEMP = os.path.join(os.environ.get("PTV_TEST_TEMP", "."), "clientserver")
+os.makedirs(TEMP, exist_ok=True)
+PRESET = "Head Two-Band (paper)"
+SIZE = [160, 160]
+FRAMES = 8
+# Mean |diff| (0..255) allowed between the builtin and the remote screenshot.
+MAX_MEAN_DIFF = 1.0
+
+failures: List[str] = []
+
+
+def check(ok: bool, what: str) -> None:
+    print(("ok     " if ok else "FAILED ") + what, flush=True)
+    if not ok:
+        failures.append(what)
+
+
+def free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def build_scene(name: str, remote: bool):
+    """The head as "Path Traced Volume" in a new view; returns (view, display)."""
+    reader = XMLImageDataReader(FileName=[HEAD])
+    view = CreateView("RenderView")
+    view.ViewSize = SIZE
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.Background = [0.32, 0.34, 0.43]
+    if remote:
+        view.RemoteRenderThreshold = 0  # render on the server, where the passes are written
+    display = Show(reader, view)
+    display.SetRepresentationType("Path Traced Volume")
+    ColorBy(display, ("POINTS", "ImageScalars"))
+    display.DenoiserUseNetwork = 0
+    display.MaximumAccumulatedFrames = FRAMES
+    display.PassesFileName = os.path.join(TEMP, name + ".exr")
+    GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
+    GetOpacityTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
+    camera = view.GetActiveCamera()
+    camera.SetPosition(0, -1, 0)
+    camera.SetFocalPoint(0, 0, 0)
+    camera.SetViewUp(0, 0, 1)
+    view.ResetCamera()
+    return view, display
+
+
+def info(display, name: str):
+    display.UpdatePropertyInformation()
+    return display.GetProperty(name).GetData()
+
+
+def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
+    """Render until converged (progressive refinement through the view's streaming passes, as
+    the GUI does), save a screenshot, write the passes; returns the screenshot."""
+    Render(view)
+    passes = 0
+    while view.SMProxy.StreamingUpdate(True) and passes < 4 * FRAMES:
+        passes += 1
+    print("%s: %d streaming renders after the first" % (name, passes))
+    check(0 < passes < FRAMES, "%s: progressive refinement renders, then stops" % name)
+    frames = info(display, "AccumulatedFrames")
+    traced = info(display, "LastRenderTraced")
+    backend = info(display, "ActiveBackend")
+    status = info(display, "DenoiserStatus")
+    print("%s information properties: AccumulatedFrames=%r LastRenderTraced=%r "
+          "ActiveBackend=%r DenoiserStatus=%r" % (name, frames, traced, backend, status))
+    if not remote:
+        check(frames == FRAMES, "%s: AccumulatedFrames=%d" % (name, FRAMES))
+        check(backend in ("CPU", "CUDA"), "%s: ActiveBackend is CPU or CUDA" % name)
+        check(str(status).startswith("fixed guide"),
+              "%s: DenoiserStatus names the fixed guide" % name)
+    png = os.path.join(TEMP, name + ".png")
+    SaveScreenshot(png, view, ImageResolution=SIZE, TransparentBackground=0)
+    exr = display.PassesFileName
+    if os.path.exists(exr):
+        os.remove(exr)
+    # The command goes to the server without a reply: wait for the file.
+    display.SMProxy.InvokeCommand("WritePasses")
+    deadline = time.time() + 60
+    while not os.path.exists(exr) and time.time() < deadline:
+        time.sleep(0.1)
+    check(os.path.exists(exr), "%s: WritePasses wrote %s" % (name, exr))
+    return read_png(png)
+
+
+def read_png(path: str) -> np.ndarray:
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    png = vtkPNGReader()
+    png.SetFileName(path)
+    png.Update()
+    image = png.GetOutput()
+    w, h, _ = image.GetDimensions()
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
+    return pixels.reshape(h, w, -1)[..., :3]
+
+
+def read_passes(path: str) -> dict:
+    from pathtracedvolume.vtkPTVFilters import vtkPTVEXRPassReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    reader = vtkPTVEXRPassReader()
+    reader.SetFileName(path)
+    reader.Update()
+    pd = reader.GetOutput().GetPointData()
+    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).copy()
+            for i in range(pd.GetNumberOfArrays())}
+
+
+class Server:
+    """A pvserver child process; its output goes to a log file, watched for the ready line."""
+
+    def __init__(self, port: int, log_path: str) -> None:
+        self.port = port
+        self.log_path = log_path
+        self.lines: List[str] = []
+        self.ready = threading.Event()
+        command = ["pvserver", "--server-port=%d" % port, "--hostname=127.0.0.1",
+                   "--force-offscreen-rendering"]
+        print("starting:", " ".join(command), flush=True)
+        self.process = subprocess.Popen(command, stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True,
+                                        start_new_session=True)
+        self.thread = threading.Thread(target=self._pump, daemon=True)
+        self.thread.start()
+
+    def _pump(self) -> None:
+        with open(self.log_path, "w") as log:
+            for line in self.process.stdout:
+                log.write(line)
+                log.flush()
+                self.lines.append(line.rstrip("\n"))
+                if "Accepting connection" in line:
+                    self.ready.set()
+
+    def wait_ready(self, timeout: float = 60.0) -> bool:
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            if self.ready.wait(0.2):
+                return True
+            if self.process.poll() is not None:
+                return False
+        return False
+
+    def stop(self) -> Optional[int]:
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(15)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait(15)
+        self.thread.join(5)
+        return self.process.returncode
+
+
+# --- 1. builtin -------------------------------------------------------------------------------
+LoadPlugin(PLUGIN, remote=False, ns=globals())
+# Presets live in the client's settings: import them once (again would warn about the name).
+check(ImportPresets(os.path.join(SOURCE_DIR, "Data", "TransferFunctions", "head.json")),
+      "ImportPresets(head.json)")
+view, display = build_scene("builtin", remote=False)
+builtin_image = render_frames(view, display, "builtin", remote=False)
+builtin_passes = read_passes(os.path.join(TEMP, "builtin.exr"))
+check(len(builtin_passes) >= 9 and "Radiance" in builtin_passes and "Denoised" in builtin_passes,
+      "builtin.exr holds the traced and denoised passes: %s" % sorted(builtin_passes))
+Delete(display)
+Delete(view)
+Disconnect()
+
+# --- 2. client/server -------------------------------------------------------------------------
+server = Server(free_port(), os.path.join(TEMP, "pvserver.log"))
+try:
+    ready = server.wait_ready()
+    check(ready, "pvserver is accepting connections on 127.0.0.1:%d" % server.port)
+    if ready:
+        Connect("127.0.0.1", server.port)
+        LoadPlugin(PLUGIN, remote=True, ns=globals())
+        LoadPlugin(PLUGIN, remote=False, ns=globals())
+        view, display = build_scene("remote", remote=True)
+        check("Path Traced Volume" in list(display.GetProperty("Representation").Available),
+              "the representation is offered in client/server mode")
+        remote_image = render_frames(view, display, "remote", remote=True)
+        check(remote_image.max() - remote_image.min() > 50 and remote_image.std() > 5,
+              "the remote screenshot is not blank (range %.0f, std %.1f)"
+              % (remote_image.max() - remote_image.min(), remote_image.std()))
+        diff = np.abs(remote_image - builtin_image)
+        print("remote vs builtin screenshot: mean |diff| %.3f/255, max %.0f"
+              % (diff.mean(), diff.max()))
+        check(diff.mean() <= MAX_MEAN_DIFF, "the remote image matches the builtin one")
+        remote_passes = read_passes(os.path.join(TEMP, "remote.exr"))
+        check(sorted(remote_passes) == sorted(builtin_passes),
+              "remote.exr has the builtin passes")
+        # The tracer is deterministic: the same 8 frames give the same passes.
+        for name in ("Radiance", "Depth", "Normal", "Denoised"):
+            if name in remote_passes and name in builtin_passes:
+                d = float(np.abs(remote_passes[name] - builtin_passes[name]).max())
+                check(d < 1e-4, "pass %s: remote == builtin (max |diff| %.3g)" % (name, d))
+        Disconnect()
+finally:
+    code = server.stop()
+    print("pvserver stopped (exit code %s)" % code, flush=True)
+
+errors = [line for line in server.lines
+          if "ERR|" in line or "ERROR: In" in line or "WARN|" in line or "Warning: In" in line]
+for line in errors:
+    print("pvserver: " + line)
+check(not errors, "pvserver logged no errors or warnings (%d)" % len(errors))
+
+if failures:
+    print("%d check(s) failed" % len(failures))
+    sys.exit(1)
+print("PASS")
