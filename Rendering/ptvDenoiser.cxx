@@ -205,11 +205,29 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   grid.Levels = this->Levels;
   // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
   const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
-  this->Grid.Apply(grid, width, height, passes[PassRadiance],
-    demodulate ? passes[PassAlbedo] : nullptr,
-    this->Guides.data(), this->Levels > 1 ? this->Weights.data() : nullptr, out);
-  this->Timings.Splat = this->Grid.GetLastTimings().Demodulate + this->Grid.GetLastTimings().Splat;
-  this->Timings.Slice = this->Grid.GetLastTimings().Slice;
+  const float* albedo = demodulate ? passes[PassAlbedo] : nullptr;
+  const float* weights = this->Levels > 1 ? this->Weights.data() : nullptr;
+  this->GridOnCuda = false;
+  if (settings.UseCuda)
+  {
+    std::string cudaError;
+    this->GridOnCuda = this->CudaGrid.Apply(grid, width, height, passes[PassRadiance], albedo,
+      this->Guides.data(), weights, out, cudaError);
+    if (!this->GridOnCuda && cudaError != this->LastWarned)
+    {
+      this->Warning = "bilateral grid on CUDA failed (" + cudaError + "); using the CPU";
+      this->LastWarned = cudaError;
+    }
+  }
+  if (!this->GridOnCuda)
+  {
+    this->Grid.Apply(
+      grid, width, height, passes[PassRadiance], albedo, this->Guides.data(), weights, out);
+  }
+  const BilateralGridTimings& t =
+    this->GridOnCuda ? this->CudaGrid.GetLastTimings() : this->Grid.GetLastTimings();
+  this->Timings.Splat = t.Demodulate + t.Splat;
+  this->Timings.Slice = t.Slice;
   return true;
 }
 }

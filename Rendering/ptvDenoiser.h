@@ -12,6 +12,7 @@
 #define ptvDenoiser_h
 
 #include "ptvBilateralGridCpu.h"
+#include "ptvCudaBilateralGrid.h"
 #include "ptvGuideNetSession.h"
 
 #include <string>
@@ -26,6 +27,7 @@ struct DenoiserSettings
   int Levels = 0;         ///< 0: the model's (3 for the fixed guide); 1..3, <= the model's
   double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
   int Threads = 0;        ///< <= 0: every core
+  bool UseCuda = false;   ///< run the grid on the CUDA device (falls back to the CPU on error)
 };
 
 struct DenoiserTimings
@@ -58,6 +60,8 @@ public:
   /// Blend weights, interleaved width * height * (GetLevels() - 1).
   const std::vector<float>& GetWeights() const { return this->Weights; }
   const DenoiserTimings& GetTimings() const { return this->Timings; }
+  /// Whether the last Run's grid ran on the CUDA device.
+  bool GetGridOnCuda() const { return this->GridOnCuda; }
 
 private:
   bool EnsureModel(const DenoiserSettings& settings);
@@ -67,6 +71,8 @@ private:
   std::string ModelProblem;   // why the model is not usable ("" = loaded)
   int SessionThreads = -1;
   BilateralGridCpu Grid;
+  CudaBilateralGrid CudaGrid;
+  bool GridOnCuda = false;
   std::vector<float> Features, NetOutput, Guides, Weights;
   int Levels = 0;
   bool NetworkActive = false;

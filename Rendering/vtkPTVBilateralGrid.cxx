@@ -1,6 +1,7 @@
 #include "vtkPTVBilateralGrid.h"
 
 #include "ptvBilateralGridCpu.h"
+#include "ptvCudaBilateralGrid.h"
 
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
@@ -16,7 +17,9 @@ struct vtkPTVBilateralGrid::vtkInternals
 {
   ptv::BilateralGridSettings Settings;
   ptv::BilateralGridCpu Cpu;
+  ptv::CudaBilateralGrid Cuda;
   ptv::BilateralGridTimings Timings;
+  bool LastOnCuda = false;
 };
 
 vtkStandardNewMacro(vtkPTVBilateralGrid);
@@ -274,14 +277,36 @@ bool vtkPTVBilateralGrid::Apply(vtkImageData* radiance, vtkImageData* albedo,
   this->Internals->Settings.Levels = levels;
   this->Internals->Settings.Clamp = this->Clamp;
   this->Internals->Settings.Threads = this->NumberOfThreads;
-  this->Internals->Cpu.Apply(this->Internals->Settings, width, height,
-    radianceArray->GetPointer(0), albedoArray ? albedoArray->GetPointer(0) : nullptr,
-    guidesArray->GetPointer(0),
-    weightsArray ? weightsArray->GetPointer(0) : nullptr, result->GetPointer(0));
-  this->Internals->Timings = this->Internals->Cpu.GetLastTimings();
+  const float* albedoData = albedoArray ? albedoArray->GetPointer(0) : nullptr;
+  const float* weightsData = weightsArray ? weightsArray->GetPointer(0) : nullptr;
+  vtkInternals& in = *this->Internals;
+  in.LastOnCuda = false;
+  if (this->UseCuda)
+  {
+    std::string error;
+    in.LastOnCuda = in.Cuda.Apply(in.Settings, width, height, radianceArray->GetPointer(0),
+      albedoData, guidesArray->GetPointer(0), weightsData, result->GetPointer(0), error);
+    if (!in.LastOnCuda)
+    {
+      vtkErrorMacro("Apply: UseCuda is on but the CUDA grid cannot run (" << error
+                                                                        << "); using the CPU");
+    }
+  }
+  if (!in.LastOnCuda)
+  {
+    in.Cpu.Apply(in.Settings, width, height, radianceArray->GetPointer(0), albedoData,
+      guidesArray->GetPointer(0), weightsData, result->GetPointer(0));
+  }
+  in.Timings = in.LastOnCuda ? in.Cuda.GetLastTimings() : in.Cpu.GetLastTimings();
   result->Modified();
   output->Modified();
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPTVBilateralGrid::GetLastApplyOnCuda() const
+{
+  return this->Internals->LastOnCuda;
 }
 
 //------------------------------------------------------------------------------
@@ -297,6 +322,8 @@ void vtkPTVBilateralGrid::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << indent << "Clamp: " << this->Clamp << "\n";
   os << indent << "Demodulate: " << (this->Demodulate ? "On" : "Off") << "\n";
+  os << indent << "UseCuda: " << (this->UseCuda ? "On" : "Off")
+     << " (last Apply on " << (this->Internals->LastOnCuda ? "CUDA" : "the CPU") << ")\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "LastDemodulateTime: " << this->Internals->Timings.Demodulate << " ms\n";
   os << indent << "LastSplatTime: " << this->Internals->Timings.Splat << " ms\n";

@@ -87,6 +87,18 @@ public:
 
   ///@{
   /**
+   * Run on the CUDA device (the same kernel body as the CPU; needs a build with
+   * PTV_ENABLE_CUDA and a device). When it cannot run, Apply reports why with an error and
+   * runs on the CPU. GetLastApplyOnCuda() tells where the last Apply ran. Default: off.
+   */
+  vtkSetMacro(UseCuda, bool);
+  vtkGetMacro(UseCuda, bool);
+  vtkBooleanMacro(UseCuda, bool);
+  bool GetLastApplyOnCuda() const;
+  ///@}
+
+  ///@{
+  /**
    * Number of CPU threads; 0 uses every core. The result does not depend on it. Default: 0.
    */
   vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
@@ -118,6 +130,7 @@ protected:
   int NumberOfLevels = 3;
   double Clamp = 8.0;
   bool Demodulate = true;
+  bool UseCuda = false;
   int NumberOfThreads = 0;
 
 private:

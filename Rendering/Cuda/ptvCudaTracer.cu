@@ -2,6 +2,7 @@
 // kernel body the CPU driver runs (Kernels/ptvIntegrator.h).
 #include "../ptvCudaTracer.h"
 #include "../ptvPassBuffers.h"
+#include "ptvCudaBuffer.h"
 
 #include <cuda_runtime.h>
 
@@ -24,40 +25,6 @@ __global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples
   out[static_cast<std::size_t>(y) * p.Camera.Width + x] =
     TracePixelMean(p, firstSample, samples, x, y);
 }
-
-/// One explicit device allocation, grown when needed and reused across frames.
-struct DeviceBuffer
-{
-  void* Ptr = nullptr;
-  std::size_t Bytes = 0;
-
-  cudaError_t Fit(std::size_t bytes)
-  {
-    if (this->Ptr && bytes <= this->Bytes)
-    {
-      return cudaSuccess;
-    }
-    this->Free();
-    const cudaError_t e = cudaMalloc(&this->Ptr, bytes > 0 ? bytes : 1);
-    if (e != cudaSuccess)
-    {
-      this->Ptr = nullptr;
-      return e;
-    }
-    this->Bytes = bytes;
-    return cudaSuccess;
-  }
-
-  void Free()
-  {
-    if (this->Ptr)
-    {
-      cudaFree(this->Ptr);
-    }
-    this->Ptr = nullptr;
-    this->Bytes = 0;
-  }
-};
 }
 
 struct CudaTracer::Internals
@@ -98,21 +65,9 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   unsigned int firstSample, int samples, PassBuffers& out, std::string& error)
 {
   Internals& in = *this->Impl;
-  auto ok = [&error](cudaError_t e, const char* what)
-  {
-    if (e == cudaSuccess)
-    {
-      return true;
-    }
-    error = std::string("CUDA ") + what + ": " + cudaGetErrorString(e);
-    cudaGetLastError(); // clear the error state
-    return false;
-  };
+  auto ok = [&error](cudaError_t e, const char* what) { return CudaOk(e, what, error); };
   auto upload = [&ok](DeviceBuffer& b, const void* host, std::size_t bytes, const char* what)
-  {
-    return ok(b.Fit(bytes), what) &&
-      ok(cudaMemcpy(b.Ptr, host, bytes, cudaMemcpyHostToDevice), what);
-  };
+  { return ok(b.Upload(host, bytes), what); };
 
   TraceParams d = params;
   const int* dims = params.Volume.Dims;

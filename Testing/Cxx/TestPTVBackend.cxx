@@ -9,12 +9,14 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPTVBilateralGrid.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRTAnalyticSource.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkTestErrorObserver.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -68,6 +70,40 @@ std::vector<float> RenderRadiance(int backend, vtkTest::ErrorObserver* errors, s
 }
 }
 
+/// vtkPTVBilateralGrid on a 9 x 5 ramp, 1 level, optionally asking for CUDA.
+std::vector<float> DenoiseRamp(bool useCuda, vtkTest::ErrorObserver* errors)
+{
+  auto image = [](int components, float scale)
+  {
+    vtkNew<vtkImageData> im;
+    im->SetDimensions(9, 5, 1);
+    vtkNew<vtkFloatArray> a;
+    a->SetNumberOfComponents(components);
+    a->SetNumberOfTuples(45);
+    for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+    {
+      a->SetValue(i, scale * static_cast<float>(i % 17) / 17.f);
+    }
+    im->GetPointData()->SetScalars(a);
+    return vtkSmartPointer<vtkImageData>(im.GetPointer());
+  };
+  vtkNew<vtkPTVBilateralGrid> grid;
+  grid->SetNumberOfLevels(1);
+  grid->SetUseCuda(useCuda);
+  if (errors)
+  {
+    grid->AddObserver(vtkCommand::ErrorEvent, errors);
+  }
+  vtkNew<vtkImageData> out;
+  if (!grid->Apply(image(3, 2.f), image(3, 1.f), image(1, 255.f), nullptr, out) ||
+    grid->GetLastApplyOnCuda())
+  {
+    return {};
+  }
+  auto* a = vtkFloatArray::SafeDownCast(out->GetPointData()->GetScalars());
+  return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+}
+
 int TestPTVBackend(int, char*[])
 {
   using ptv::ResolveBackend;
@@ -113,6 +149,15 @@ int TestPTVBackend(int, char*[])
         std::to_string(count) + ")");
     Check(!cpu.empty() && requested == cpu && automatic == cpu,
       "the fallback image is the CPU image, bit for bit");
+
+    // The bilateral grid: UseCuda without a device is an error naming why, then the CPU result.
+    const std::vector<float> plain = DenoiseRamp(false, nullptr);
+    vtkNew<vtkTest::ErrorObserver> gridErrors;
+    const std::vector<float> fallback = DenoiseRamp(true, gridErrors);
+    const std::string gridText = gridErrors->GetErrorMessage();
+    Check(gridText.find("UseCuda is on but the CUDA grid cannot run") != std::string::npos,
+      "grid UseCuda without a device reports it: " + gridText);
+    Check(!plain.empty() && fallback == plain, "grid fallback is the CPU result, bit for bit");
   }
   return TestResult();
 }

@@ -1,0 +1,32 @@
+/**
+ * @file ptvBilateralGridSettings.h
+ * @brief Private: what a bilateral-grid driver (CPU or CUDA) runs, and its phase timings.
+ *        Plain structs, no VTK or CUDA header, so both drivers can include it.
+ */
+#ifndef ptvBilateralGridSettings_h
+#define ptvBilateralGridSettings_h
+
+#include "Kernels/ptvBilateralGrid.h"
+
+namespace ptv
+{
+/// What to run: levels, their steps, the outlier clamp and the thread count.
+struct BilateralGridSettings
+{
+  int Levels = 3;                                 ///< 1..3
+  int SpatialStep[kMaxGridLevels] = { 4, 8, 16 }; ///< ss per level, 1..256
+  int RangeStep[kMaxGridLevels] = { 4, 8, 16 };   ///< sr per level, 1..256
+  double Clamp = 8.0;                             ///< outlier clamp factor, 0 = off
+  int Threads = 0;                                ///< <= 0: every core
+};
+
+/// Wall-clock milliseconds of the phases of the last Apply.
+struct BilateralGridTimings
+{
+  double Demodulate = 0.0; ///< sanitise, demodulate, mean luminance, clamp, guide copy
+  double Splat = 0.0;      ///< all levels
+  double Slice = 0.0;      ///< slice, blend and re-modulate
+};
+}
+
+#endif
