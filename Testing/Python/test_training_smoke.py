@@ -27,7 +27,7 @@ torch = pytest.importorskip("torch")
 def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> None:
     volume_path("head")  # fails (or skips) clearly when the data is not fetched
     from ptv_training import evaluate, exr_io, generate, train
-    from ptv_training.features import required_passes, resolve_channels
+    from ptv_training.features import build_features, required_passes, resolve_channels
 
     data = tmp_path / "views"
     common = ["--out", str(data), "--datasets", "head", "--views", "2", "--size", "32",
@@ -83,3 +83,34 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
                                       ck["clamp"], passes)
     span = float(expected.max() - expected.min()) or 1.0
     assert np.abs(result["output"] - expected).max() <= 1e-4 * span
+
+    # The same pipeline for a model trained without demodulation and for the U-Net baseline:
+    # exported, loaded in C++, and equal to torch there too.
+    from ptv_training.unet import UNet
+    for extra in (["--no-demodulate"], ["--arch", "unet", "--width", "4"]):
+        run = tmp_path / ("run_" + extra[-1].strip("-"))
+        model_file = run.with_suffix(".onnx")
+        assert train.main(["--data", str(data), "--out", str(run), "--val-per-dataset", "1",
+                           "--hidden", "4", "--batch", "2", "--max-steps", "2", "--threads", "2",
+                           "--export", str(model_file), "--no-progress", *extra]) == 0
+        result = evaluate.cpp_denoise(model_file, passes, required_passes(channels), threads=2)
+        assert result["network_active"], result["status"]
+        ck = torch.load(run / "best.pt")
+        if "--arch" in extra:
+            assert "image model" in result["status"]
+            net = UNet(**ck["config"])
+            net.load_state_dict(ck["model"])
+            net.eval()
+            features = torch.from_numpy(build_features(passes, channels))[None]
+            with torch.no_grad():
+                expected = net(features)[0].permute(1, 2, 0).numpy()
+        else:
+            assert not ck["demodulate"] and "no demodulation" in result["status"]
+            model = GuideNet(**ck["config"])
+            model.load_state_dict(ck["model"])
+            model.eval()
+            expected = evaluate.torch_denoise(model, channels, [tuple(l) for l in ck["levels"]],
+                                              ck["clamp"], passes, demodulate=False)
+        span = float(expected.max() - expected.min()) or 1.0
+        assert np.isfinite(result["output"]).all()
+        assert np.abs(result["output"] - expected).max() <= 1e-4 * span, extra

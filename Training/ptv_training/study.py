@@ -1,0 +1,286 @@
+"""CLI: the training studies of issue #5 in one command each — ablations and leave-one-out.
+
+Every experiment is one ``train.py`` run with the same data, seed, step budget and optimizer, so
+only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reused when their
+``best.pt`` exists (a rerun only trains what is missing). The tables report validation PSNR at
+1 spp per dataset (tone-mapped, against the 1024-spp reference, the held-out views of
+``split_views``), read from each run's best checkpoint, plus the network's size and cost.
+
+    python Training/ptv_training/study.py ablation --steps 800
+    python Training/ptv_training/study.py loo --steps 800
+    python Training/ptv_training/study.py unet --steps 800
+
+``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
+denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
+path; median of ``--repeats`` runs at 128² and at 512², 2 threads).
+
+Results: ``Training/results/<study>.md`` and ``.json`` (written atomically).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+TRAIN = REPO_ROOT / "Training" / "ptv_training" / "train.py"
+DEFAULT_RUNS = REPO_ROOT / ".cache" / "training" / "runs"
+DEFAULT_RESULTS = REPO_ROOT / "Training" / "results"
+DATASETS = ("concrete", "head", "stent")
+KEEP_WITHIN_DB = 0.2  # keep the cheapest configuration within this of the best
+
+
+@dataclass
+class Experiment:
+    name: str
+    what: str
+    args: List[str] = field(default_factory=list)
+
+
+BASE = ["--channels", "VOLUME_FEATURES", "--hidden", "8", "--kernel", "5", "--no-demodulate"]
+
+STUDIES: Dict[str, List[Experiment]] = {
+    "ablation": [
+        Experiment("vol_h8_L3", "volume features, hidden 8, 3 levels (candidate)", BASE),
+        Experiment("color_h8_L3", "colour only (3 ch), hidden 8, 3 levels",
+                   ["--channels", "COLOR_ONLY", "--hidden", "8", "--no-demodulate"]),
+        Experiment("vol_h8_L1", "volume features, hidden 8, 1 level (4:4)",
+                   BASE + ["--levels", "4:4"]),
+        Experiment("paper_h20_L3", "the original GuideNet: 10 ch -> 20 -> 5, 5x5",
+                   ["--channels", "PAPER_10", "--hidden", "20", "--no-demodulate"]),
+        Experiment("vol_h20_L3", "volume features, hidden 20, 3 levels",
+                   ["--channels", "VOLUME_FEATURES", "--hidden", "20", "--no-demodulate"]),
+        Experiment("vol_h4_L3", "volume features, hidden 4, 3 levels",
+                   ["--channels", "VOLUME_FEATURES", "--hidden", "4", "--no-demodulate"]),
+        Experiment("vol_h0_L3", "volume features, a single 5x5 conv, 3 levels",
+                   ["--channels", "VOLUME_FEATURES", "--hidden", "0", "--no-demodulate"]),
+        Experiment("vol_h8_L3_demod", "as the candidate, with albedo demodulation",
+                   ["--channels", "VOLUME_FEATURES", "--hidden", "8"]),
+    ],
+    "loo": [Experiment("vol_h8_L3", "all three datasets (in-domain)", BASE)] + [
+        Experiment(f"no_{d}", f"trained without {d}", BASE + ["--exclude", d])
+        for d in DATASETS],
+    "unet": [Experiment("vol_h8_L3", "bilateral grid + GuideNet (ours)", BASE),
+             Experiment("unet_w16", "U-Net autoencoder (Hofmann et al. 2020 style), width 16",
+                        ["--arch", "unet", "--width", "16", "--channels", "VOLUME_FEATURES"])],
+}
+
+
+def run_dir(runs: Path, study: str, name: str) -> Path:
+    # The in-domain model is shared by both studies: train it once.
+    return runs / ("study_vol_h8_L3" if name == "vol_h8_L3" else f"study_{study}_{name}")
+
+
+def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
+    """Train one experiment unless its best.pt exists; returns the wall-clock seconds."""
+    if (out / "best.pt").is_file() and (out / "done").is_file():
+        return 0.0
+    cmd = [sys.executable, str(TRAIN), "--out", str(out), "--max-steps", str(args.steps),
+           "--minutes", "600", "--threads", "1", "--seed", str(args.seed), "--no-progress",
+           *exp.args]
+    if args.data:
+        cmd += ["--data", str(args.data)]
+    if (out / "last.pt").is_file():
+        cmd.append("--resume")
+    start = time.monotonic()
+    log = out.with_suffix(".log")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with open(log, "w") as fh:
+        result = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT)
+    if result.returncode != 0:
+        raise RuntimeError(f"{exp.name} failed ({result.returncode}); see {log}")
+    (out / "done").write_text(" ".join(cmd) + "\n")
+    return time.monotonic() - start
+
+
+def summarise(exp: Experiment, out: Path) -> Dict[str, Any]:
+    import torch
+
+    ck = torch.load(out / "best.pt", weights_only=False)
+    info = json.loads((out / "run.json").read_text())
+    rows = [r for r in ck.get("validation_rows", []) if r["spp"] == 1]
+    per = {d: sum(r["psnr"] for r in rows if r["dataset"] == d)
+           / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in DATASETS}
+    noisy = {d: sum(r["noisy"] for r in rows if r["dataset"] == d)
+             / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in DATASETS}
+    return {"name": exp.name, "what": exp.what, "args": exp.args, "run": out.name,
+            "channels": len(info["channels"]), "parameters": info["parameters"],
+            "macs_per_pixel": info["macs_per_pixel"], "levels": info["levels"],
+            "best_epoch": ck["state"]["best_epoch"], "steps": ck["state"]["steps"],
+            "psnr_1spp": per, "noisy_1spp": noisy,
+            "psnr_1spp_mean": sum(per.values()) / len(per),
+            "val_psnr_1_2_4spp": ck["state"]["best_psnr"]}
+
+
+def ensure_onnx(out: Path) -> Path:
+    """``<run>/model.onnx`` exported from the run's best checkpoint (once)."""
+    import torch
+
+    from .export_onnx import export, export_image_model
+    from .guidenet import GuideNet
+    from .unet import UNet
+
+    path = out / "model.onnx"
+    if path.is_file():
+        return path
+    ck = torch.load(out / "best.pt", weights_only=False)
+    extra = {"ptv.weights": f"study run {out.name}, epoch {ck['state']['best_epoch']}"}
+    if "width" in ck["config"]:
+        model = UNet(**ck["config"])
+        model.load_state_dict(ck["model"])
+        return export_image_model(model, path, ck["channels"], extra_metadata=extra)
+    model = GuideNet(**ck["config"])
+    model.load_state_dict(ck["model"])
+    extra["ptv.demodulate"] = "1" if ck.get("demodulate", True) else "0"
+    return export(model, path, ck["channels"], [tuple(l) for l in ck["levels"]],
+                  extra_metadata=extra)
+
+
+def time_cpp(model: Path, data: Optional[Path], repeats: int) -> Dict[str, float]:
+    """Median C++ denoise ms of one validation view at 128² and tiled 4 x 4 to 512²."""
+    import numpy as np
+
+    from . import exr_io
+    from .data import split_views
+    from .evaluate import cpp_denoise
+    from .features import required_passes, resolve_channels
+    from .train import DEFAULT_DATA
+
+    _, val, _ = split_views(data or DEFAULT_DATA, 3)
+    passes = exr_io.read_view(val[0])["inputs"][1]
+    import onnx
+    meta = {p.key: p.value for p in onnx.load(str(model)).metadata_props}
+    names = required_passes(resolve_channels(meta["ptv.input_channels"].split(",")))
+    result = {}
+    for size, tiles in ((128, 1), (512, 4)):
+        tiled = {k: np.ascontiguousarray(np.tile(v, (tiles, tiles) + (1,) * (v.ndim - 2)))
+                 for k, v in passes.items()}
+        runs = [cpp_denoise(model, tiled, names, threads=2)["ms"] for _ in range(repeats)]
+        result[f"ms_{size}"] = float(np.median(runs))
+    return result
+
+
+def atomic_write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    with os.fdopen(fd, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def table(results: List[Dict[str, Any]], reference: Optional[Dict[str, Any]] = None) -> str:
+    head = ("| experiment | what | params | MACs/px | " + " | ".join(DATASETS)
+            + " | mean | Δ vs first |\n|---|---|---|---|" + "---|" * len(DATASETS) + "---|---|\n")
+    first = reference or results[0]
+    lines = []
+    for r in results:
+        cells = " | ".join(f"{r['psnr_1spp'][d]:.2f}" for d in DATASETS)
+        lines.append(f"| `{r['name']}` | {r['what']} | {r['parameters']} | "
+                     f"{r['macs_per_pixel']} | {cells} | {r['psnr_1spp_mean']:.2f} | "
+                     f"{r['psnr_1spp_mean'] - first['psnr_1spp_mean']:+.2f} |")
+    noisy = " | ".join(f"{results[0]['noisy_1spp'][d]:.2f}" for d in DATASETS)
+    lines.append(f"| noisy 1 spp | — | — | — | {noisy} | "
+                 f"{sum(results[0]['noisy_1spp'].values()) / len(DATASETS):.2f} | |")
+    return head + "\n".join(lines) + "\n"
+
+
+def verdict(study: str, results: List[Dict[str, Any]]) -> str:
+    by = {r["name"]: r for r in results}
+    if study == "unet":
+        lines = ["| denoiser | C++ ms 128² | C++ ms 512² | mean PSNR 1 spp |", "|---|---|---|---|"]
+        for r in results:
+            lines.append(f"| `{r['name']}` | {r['ms_128']:.1f} | {r['ms_512']:.1f} | "
+                         f"{r['psnr_1spp_mean']:.2f} |")
+        a, b = by.get("vol_h8_L3"), by.get("unet_w16")
+        if a and b:
+            lines.append(f"\nU-Net / ours: {b['ms_512'] / a['ms_512']:.1f}x the time at 512², "
+                         f"{b['psnr_1spp_mean'] - a['psnr_1spp_mean']:+.2f} dB.")
+        return "\n".join(lines) + "\n"
+    if study == "ablation":
+        best = max(results, key=lambda r: r["psnr_1spp_mean"])
+        ok = [r for r in results if r["psnr_1spp_mean"] >= best["psnr_1spp_mean"] - KEEP_WITHIN_DB]
+        keep = min(ok, key=lambda r: (r["macs_per_pixel"], len(r["levels"].split(","))))
+        lines = [f"- Best mean: `{best['name']}` {best['psnr_1spp_mean']:.2f} dB. Cheapest within "
+                 f"{KEEP_WITHIN_DB} dB of it: **`{keep['name']}`** ({keep['macs_per_pixel']} "
+                 f"MACs/px, {keep['levels']})."]
+        if "color_h8_L3" in by and "vol_h8_L3" in by:
+            gain = by["vol_h8_L3"]["psnr_1spp_mean"] - by["color_h8_L3"]["psnr_1spp_mean"]
+            lines.append(f"- Auxiliary features over colour only: {gain:+.2f} dB (target ≥ +0.5).")
+        if "vol_h8_L1" in by and "vol_h8_L3" in by:
+            gain = by["vol_h8_L3"]["psnr_1spp_mean"] - by["vol_h8_L1"]["psnr_1spp_mean"]
+            lines.append(f"- 3 levels over 1 level: {gain:+.2f} dB.")
+        if "vol_h8_L3_demod" in by and "vol_h8_L3" in by:
+            gain = by["vol_h8_L3"]["psnr_1spp_mean"] - by["vol_h8_L3_demod"]["psnr_1spp_mean"]
+            lines.append(f"- No demodulation over demodulation: {gain:+.2f} dB.")
+        return "\n".join(lines) + "\n"
+    lines = []
+    ref = by.get("vol_h8_L3")
+    for d in DATASETS:
+        r = by.get(f"no_{d}")
+        if r and ref:
+            gap = r["psnr_1spp"][d] - ref["psnr_1spp"][d]
+            lines.append(f"- {d}, unseen: {r['psnr_1spp'][d]:.2f} dB vs in-domain "
+                         f"{ref['psnr_1spp'][d]:.2f} dB ({gap:+.2f}; target within -0.5).")
+    return "\n".join(lines) + "\n"
+
+
+def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(prog="python Training/ptv_training/study.py",
+                                description="Train and tabulate the ablation or leave-one-out "
+                                            "study (runs are reused when already trained).")
+    p.add_argument("study", choices=sorted(STUDIES), help="which study")
+    p.add_argument("--steps", type=int, default=800, help="training steps per run (default 800)")
+    p.add_argument("--seed", type=int, default=0, help="seed of every run (default 0)")
+    p.add_argument("--jobs", type=int, default=2,
+                   help="runs trained at once, one thread each (default 2)")
+    p.add_argument("--data", type=Path, default=None, help="views folder (default: train.py's)")
+    p.add_argument("--repeats", type=int, default=5, help="C++ timing repeats (unet study)")
+    p.add_argument("--runs", type=Path, default=DEFAULT_RUNS, help="run folders go here")
+    p.add_argument("--results", type=Path, default=DEFAULT_RESULTS,
+                   help="write <study>.md/.json here")
+    return p.parse_args(argv)
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    from tqdm import tqdm
+
+    args = parse_args(argv)
+    experiments = STUDIES[args.study]
+    outs = [run_dir(args.runs, args.study, e.name) for e in experiments]
+    start = time.monotonic()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        futures = [pool.submit(train, e, o, args) for e, o in zip(experiments, outs)]
+        for f in tqdm(futures, desc=args.study, unit="run"):
+            f.result()
+    wall = time.monotonic() - start
+    results = [summarise(e, o) for e, o in zip(experiments, outs)]
+    if args.study == "unet":
+        for r, o in zip(results, outs):
+            r.update(time_cpp(ensure_onnx(o), args.data, args.repeats))
+    command = "python Training/ptv_training/study.py " + " ".join(
+        sys.argv[1:] if argv is None else list(argv))
+    text = (f"# GuideNet {args.study} study\n\n"
+            f"Command: `{command}` ({args.steps} steps per run, seed {args.seed}, batch 4 "
+            f"views, 1 thread per run; this invocation's wall time {wall / 60:.1f} min, "
+            "runs already trained are reused).\n\n"
+            "Validation PSNR (dB) at 1 spp, tone-mapped, against the 1024-spp reference, mean "
+            "over each dataset's held-out views.\n\n" + table(results) + "\n"
+            + verdict(args.study, results))
+    atomic_write(args.results / f"{args.study}.md", text)
+    atomic_write(args.results / f"{args.study}.json",
+                 json.dumps({"command": command, "steps": args.steps, "seed": args.seed,
+                             "results": results}, indent=1) + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
