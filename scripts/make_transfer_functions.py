@@ -293,7 +293,9 @@ def main(argv: list[str] | None = None) -> int:
                    smooth_preset(spec["title"], value_range, spec)]
         args.output.mkdir(parents=True, exist_ok=True)
         path = args.output / f"{name}.json"
-        path.write_text(_dump(presets), encoding="utf-8")
+        tmp = path.with_name(f".{path.name}.tmp")
+        tmp.write_text(_dump(presets), encoding="utf-8")
+        tmp.replace(path)  # atomically: a reader never sees half a preset file
         print(f"wrote {path}")
     return 0
 

@@ -114,10 +114,13 @@ def render(args: argparse.Namespace) -> float:
             mapper.GetPass(name, image)
             pass_writer = vtkXMLImageDataWriter()
             target = args.passes_dir / f"{name}.vti"
-            pass_writer.SetFileName(str(target.with_suffix(".tmp.vti")))
+            tmp_pass = target.with_suffix(".tmp.vti")
+            pass_writer.SetFileName(str(tmp_pass))
             pass_writer.SetInputData(image)
-            pass_writer.Write()
-            target.with_suffix(".tmp.vti").replace(target)
+            if pass_writer.Write() != 1:
+                tmp_pass.unlink(missing_ok=True)
+                raise OSError(f"cannot write {tmp_pass} (pass {name})")
+            tmp_pass.replace(target)
 
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)
@@ -128,6 +131,9 @@ def render(args: argparse.Namespace) -> float:
     writer.SetFileName(str(tmp))
     writer.SetInputConnection(grab.GetOutputPort())
     writer.Write()
+    if writer.GetErrorCode() != 0 or not tmp.is_file():  # vtkImageWriter::Write returns nothing
+        tmp.unlink(missing_ok=True)
+        raise OSError(f"cannot write {tmp} (VTK error code {writer.GetErrorCode()})")
     tmp.replace(args.output)
     args.denoiser_status = (mapper.GetDenoiserStatus()
                             if args.mapper == "pathtraced" and not args.no_denoise else "")

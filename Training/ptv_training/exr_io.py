@@ -26,6 +26,7 @@ Only numpy and the ``OpenEXR`` bindings (PyPI ``OpenEXR``) are needed: no VTK.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import tempfile
@@ -52,6 +53,9 @@ INPUT_SPP: Tuple[int, ...] = (1, 2, 4)
 RADIANCE_IMAGES: Dict[str, str] = {"reference": "reference.", "reference_half": "reference_half.",
                                    "spp16": "spp16."}
 VIEW_ATTRIBUTE = "ptv.view"
+#: header attribute: SHA-256 of the pixel data (see :func:`channels_digest`). EXR has no checksum
+#: of its own and stores incompressible blocks raw, so a damaged byte would otherwise read fine.
+DIGEST_ATTRIBUTE = "ptv.sha256"
 
 
 def spp_prefix(spp: int) -> str:
@@ -94,10 +98,21 @@ def pack_view(inputs: Mapping[int, Mapping[str, np.ndarray]],
     return out
 
 
+def channels_digest(channels: Mapping[str, np.ndarray]) -> str:
+    """SHA-256 (hex) over the channel names and float32 pixels, in name order."""
+    h = hashlib.sha256()
+    for name in sorted(channels):
+        a = np.ascontiguousarray(channels[name], dtype=np.float32)
+        h.update(f"{name}:{a.shape}".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
 def write_exr(path: str | os.PathLike, channels: Mapping[str, np.ndarray],
               attributes: Optional[Mapping[str, str]] = None) -> Path:
     """Write float32 ``channels`` (each ``(H, W)``, top row first) ZIP-compressed, atomically
-    (a temporary file in the same folder, then ``os.replace``)."""
+    (a temporary file in the same folder, then ``os.replace``), with the pixels' SHA-256 in the
+    ``ptv.sha256`` attribute so that :func:`verify_view_file` detects damaged bytes."""
     import OpenEXR
 
     path = Path(path)
@@ -106,6 +121,7 @@ def write_exr(path: str | os.PathLike, channels: Mapping[str, np.ndarray],
     for key, value in (attributes or {}).items():
         header[str(key)] = str(value)
     data = {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in channels.items()}
+    header[DIGEST_ATTRIBUTE] = channels_digest(data)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp.exr", dir=path.parent)
     os.close(fd)
     try:
@@ -161,6 +177,11 @@ def verify_view_file(path: str | os.PathLike, expected_view: Optional[Mapping] =
         return False, f"channel sizes differ: {shapes}"
     if size is not None and shapes.pop() != (size[1], size[0]):
         return False, "wrong size"
+    digest = header.get(DIGEST_ATTRIBUTE)
+    if isinstance(digest, bytes):
+        digest = digest.decode(errors="replace")
+    if digest is not None and str(digest) != channels_digest(channels):
+        return False, "checksum mismatch (damaged pixel data)"
     if not all(np.isfinite(v).all() for v in channels.values()):
         return False, "non-finite values"
     if expected_view is not None:

@@ -163,11 +163,26 @@ def reference_check(data: Dict[str, np.ndarray], noisy: np.ndarray) -> Dict[str,
 
 
 def _write_json(path: Path, data: Any) -> None:
+    """Atomically: a temporary file in the same folder, renamed into place; none left on error."""
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    with os.fdopen(fd, "w") as f:
-        json.dump(data, f, indent=1, sort_keys=False)
-        f.write("\n")
-    os.replace(tmp, path)
+    try:
+        with os.fdopen(fd, "w") as f:
+            json.dump(data, f, indent=1, sort_keys=False)
+            f.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def remove_stale_temporaries(out: Path) -> int:
+    """Delete the temporary files a killed run left (``.<name>.*.tmp.exr``, ``.manifest.json.*.tmp``);
+    finished files are only ever renamed into place, so these are never needed. Not for two runs
+    writing into one folder at the same time."""
+    stale = [*out.glob(".*.tmp.exr"), *out.glob(".manifest.json.*.tmp")]
+    for path in stale:
+        path.unlink(missing_ok=True)
+    return len(stale)
 
 
 def summarize_checks(views: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
@@ -217,6 +232,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parse_args(argv)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(out)
     manifest_path = out / "manifest.json"
     old: Dict[str, Any] = {}
     if manifest_path.is_file():
