@@ -24,6 +24,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 namespace ptv
 {
@@ -264,6 +265,17 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   double spacing[3], origin[3];
   image->GetSpacing(spacing);
   image->GetOrigin(origin);
+  for (const auto& v : { std::make_pair("spacing", spacing), std::make_pair("origin", origin) })
+  {
+    if (!std::isfinite(v.second[0]) || !std::isfinite(v.second[1]) || !std::isfinite(v.second[2]))
+    {
+      std::ostringstream msg;
+      msg << "non-finite image " << v.first << " (" << v.second[0] << ", " << v.second[1] << ", "
+          << v.second[2] << ")";
+      error = msg.str();
+      return false;
+    }
+  }
   if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0)
   {
     std::ostringstream msg;

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -265,6 +266,49 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   }
   output->GetPointData()->SetActiveScalars(ptv::GetPassInfo(0).Name);
   return true;
+}
+
+//------------------------------------------------------------------------------
+double* vtkPathTracedVolumeMapper::GetBounds()
+{
+  double* bounds = this->Superclass::GetBounds();
+  std::string& last = this->Internals->LastError;
+  const bool finite = std::all_of(bounds, bounds + 6, [](double v) { return std::isfinite(v); });
+  if (finite)
+  {
+    if (last.rfind("non-finite", 0) == 0)
+    {
+      last.clear(); // the input was fixed: a later error is reported again
+    }
+    return bounds;
+  }
+  std::ostringstream msg;
+  vtkImageData* image = vtkImageData::SafeDownCast(this->GetDataSetInput());
+  const double* spacing = image ? image->GetSpacing() : nullptr;
+  const double* origin = image ? image->GetOrigin() : nullptr;
+  auto allFinite = [](const double* v) { return std::isfinite(v[0] + v[1] + v[2]); };
+  if (spacing && !allFinite(spacing))
+  {
+    msg << "non-finite image spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+        << "): nothing is rendered";
+  }
+  else if (origin && !allFinite(origin))
+  {
+    msg << "non-finite image origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
+        << "): nothing is rendered";
+  }
+  else
+  {
+    msg << "non-finite volume bounds (" << bounds[0] << ", " << bounds[1] << ", " << bounds[2]
+        << ", " << bounds[3] << ", " << bounds[4] << ", " << bounds[5]
+        << "): nothing is rendered";
+  }
+  if (msg.str() != last)
+  {
+    vtkErrorMacro(<< msg.str());
+    last = msg.str();
+  }
+  return bounds;
 }
 
 //------------------------------------------------------------------------------

@@ -262,6 +262,13 @@ public:
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
+  /**
+   * The input's bounds. Non-finite ones (NaN/Inf image spacing or origin) are reported here as an
+   * error naming the value: VTK's culler drops such a volume before Render() could say why.
+   */
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  using vtkVolumeMapper::GetBounds;
+
 protected:
   vtkPathTracedVolumeMapper();
   ~vtkPathTracedVolumeMapper() override;
