@@ -1,0 +1,49 @@
+// libFuzzer: arbitrary bytes as a .vdb file through vtkPTVOpenVDBReader (and CanReadFile).
+// The reader must either produce an image or report an error; never crash, hang or allocate
+// without bound (scripts/fuzz.sh caps memory with -rss_limit_mb / -malloc_limit_mb).
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkObject.h"
+#include "vtkPTVOpenVDBReader.h"
+#include "vtkPointData.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <unistd.h>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+  static const std::string file = [] {
+    vtkObject::GlobalWarningDisplayOff(); // errors are expected; they are not findings
+    const char* dir = std::getenv("TMPDIR");
+    return std::string(dir && *dir ? dir : "/tmp") + "/ptv_fuzz_" + std::to_string(getpid()) +
+      ".vdb";
+  }();
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f)
+  {
+    std::abort();
+  }
+  if (size)
+  {
+    std::fwrite(data, 1, size, f);
+  }
+  std::fclose(f);
+
+  vtkPTVOpenVDBReader::CanReadFile(file.c_str());
+  vtkNew<vtkPTVOpenVDBReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkImageData* out = reader->GetOutput();
+  const vtkIdType points = out->GetNumberOfPoints();
+  vtkDataArray* values = out->GetPointData()->GetScalars();
+  if (points > 0 && (!values || values->GetNumberOfTuples() != points))
+  {
+    std::abort(); // an image without its values
+  }
+  return 0;
+}

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# libFuzzer runs of the file readers/converters, bounded in time and memory.
+#   C++ (clang-14 + libFuzzer, ASan + UBSan; Testing/Fuzz/, built in build-fuzz/):
+#     fuzz_openvdb_reader   bytes as a .vdb -> vtkPTVOpenVDBReader
+#     fuzz_vdb_converter    bytes -> vtkImageData -> vtkPTVOpenVDBWriter -> reader, round trip
+#   Python (atheris, libFuzzer's engine for Python; Testing/Fuzz/fuzz_exr_io.py):
+#     fuzz_exr_io           bytes as an .exr -> ptv_training.exr_io.read_exr / verify_view_file
+# Seeds: Testing/Fuzz/corpus/<harness>/ (small, committed); the growing corpus and any crash
+# artifacts stay in build-fuzz/. A finding exits non-zero and leaves build-fuzz/artifacts/<file>.
+# Usage: scripts/fuzz.sh [seconds per harness, default 300] [harness...]
+# Needs: apt-get install clang-14 libclang-rt-14-dev (libFuzzer); pip install atheris (done here
+# into .deps/atheris when missing).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${PTV_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+LOCK="${PTV_BUILD_LOCK:-/tmp/ptv-build.lock}"
+SECONDS_EACH="${1:-300}"
+shift || true
+HARNESSES=("$@")
+((${#HARNESSES[@]})) || HARNESSES=(fuzz_openvdb_reader fuzz_vdb_converter fuzz_exr_io)
+# Memory caps: a corrupt .vdb once made OpenVDB allocate 24 GB; a capped run reports that as
+# "out-of-memory (malloc(...))" instead of taking the machine down.
+LIMITS=(-rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=20 -max_len=16384 -print_final_stats=1)
+
+if ! command -v clang++-14 >/dev/null; then
+  echo "fuzz.sh: clang++-14 missing: apt-get install -y clang-14 libclang-rt-14-dev" >&2
+  exit 2
+fi
+if [[ ! -f "$BUILD/CMakeCache.txt" ]]; then
+  flock "$LOCK" cmake -S "$ROOT/Testing/Fuzz" -B "$BUILD" -G Ninja \
+    -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo
+fi
+flock "$LOCK" cmake --build "$BUILD" -j "$(nproc)"
+mkdir -p "$BUILD/artifacts"
+export TMPDIR="$BUILD/tmp" && mkdir -p "$TMPDIR"
+export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
+export LSAN_OPTIONS="suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+
+rc=0
+for h in "${HARNESSES[@]}"; do
+  corpus="$BUILD/corpus/$h"
+  mkdir -p "$corpus"
+  seeds="$ROOT/Testing/Fuzz/corpus/$h"
+  echo "== $h: ${SECONDS_EACH} s"
+  if [[ "$h" == fuzz_exr_io ]]; then
+    if [[ ! -d "$ROOT/.deps/atheris/atheris" ]]; then
+      "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check \
+        --target "$ROOT/.deps/atheris" atheris==2.3.0
+    fi
+    cmd=(env "PYTHONPATH=$ROOT/.deps/atheris:$ROOT/Training" ASAN_OPTIONS=detect_leaks=0
+      "$ROOT/.venv/bin/python" "$ROOT/Testing/Fuzz/fuzz_exr_io.py")
+  else
+    cmd=("$BUILD/$h")
+  fi
+  set +e
+  "${cmd[@]}" "${LIMITS[@]}" -max_total_time="$SECONDS_EACH" \
+    -artifact_prefix="$BUILD/artifacts/$h-" "$corpus" "$seeds" > "$BUILD/$h.log" 2>&1
+  status=$?
+  set -e
+  grep -E "^(#[0-9]+ *DONE|stat::|==[0-9]+==ERROR|SUMMARY|Done [0-9]+ runs)|artifact|INFO: Seed" \
+    "$BUILD/$h.log" || true
+  echo "== $h: exit $status (log: $BUILD/$h.log)"
+  ((status == 0)) || rc=1
+done
+exit $rc
