@@ -272,7 +272,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "data": str(args.data), "data_format": manifest.get("format"),
             "args": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}}
     _write_text(out / "run.json", json.dumps(info, indent=1) + "\n")
-    print(f"GuideNet {model.config()}: {count_parameters(model)} parameters, "
+    print(f"{type(model).__name__} {model.config()}: {count_parameters(model)} parameters, "
           f"{macs_per_pixel(model)} MAC/pixel; {len(train)} training samples "
           f"({len(train_files)} views x {len(spps)} spp), {len(val)} validation samples")
 
