@@ -673,9 +673,17 @@ class Evaluation:
     def training(self) -> None:
         md = self.md
         md += ["## 3. Paper Tables 2, 3, 4: training studies", "",
-               "Read from the committed results of the training studies (issue #5) in "
-               "`Training/results/` when present; not re-measured by this script.", ""]
+               "Read from the results of the training studies (issue #5) in "
+               "`Training/results/` when present (committed unless marked); not re-measured "
+               "by this script.", ""]
         found = {}
+
+        def tracked(path: Path) -> str:
+            """'' when git tracks ``path`` unchanged, else a note saying it is not committed."""
+            ok = subprocess.run(["git", "ls-files", "--error-unmatch", str(path)], cwd=ROOT,
+                                capture_output=True).returncode == 0 and subprocess.run(
+                ["git", "diff", "--quiet", "HEAD", "--", str(path)], cwd=ROOT).returncode == 0
+            return "" if ok else " (working copy, not committed at this commit)"
         for table, stem, title in (("Table 2", "unet", "autoencoder (U-Net) baseline vs ours"),
                                    ("Table 3", "loo", "leave-one-out generalization"),
                                    ("Table 4", "ablation", "auxiliary-feature ablation")):
@@ -685,10 +693,11 @@ class Evaluation:
             if mdfile.exists():
                 text = mdfile.read_text().strip().splitlines()
                 text = [("#### " + t.lstrip("# ")) if t.startswith("#") else t for t in text]
-                md += [f"From `Training/results/{stem}.md`:", ""] + text + [""]
+                md += [f"From `Training/results/{stem}.md`{tracked(mdfile)}:", ""] + text + [""]
                 found[stem] = str(mdfile.relative_to(ROOT))
             elif jsfile.exists():
-                md += [f"From `Training/results/{stem}.json` (no Markdown version):", "",
+                md += [f"From `Training/results/{stem}.json`{tracked(jsfile)} (no Markdown "
+                       "version):", "",
                        "```json", jsfile.read_text()[:4000].strip(), "```", ""]
                 found[stem] = str(jsfile.relative_to(ROOT))
             else:
