@@ -30,6 +30,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence
 
+if __package__ in (None, ""):  # run as a file: python Training/ptv_training/study.py
+    sys.path.append(str(Path(__file__).resolve().parents[1]))
+    import ptv_training  # noqa: F401
+    __package__ = "ptv_training"
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 TRAIN = REPO_ROOT / "Training" / "ptv_training" / "train.py"
 DEFAULT_RUNS = REPO_ROOT / ".cache" / "training" / "runs"
@@ -46,6 +51,10 @@ class Experiment:
 
 
 BASE = ["--channels", "VOLUME_FEATURES", "--hidden", "8", "--kernel", "5", "--no-demodulate"]
+# The shipped configuration, chosen by the ablation (cheapest within 0.2 dB of the best).
+SHIP = ["--channels", "PAPER_10", "--hidden", "20", "--kernel", "5", "--no-demodulate"]
+# Runs shared between studies (trained once): experiment name -> run folder.
+SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3"}
 
 STUDIES: Dict[str, List[Experiment]] = {
     "ablation": [
@@ -54,8 +63,7 @@ STUDIES: Dict[str, List[Experiment]] = {
                    ["--channels", "COLOR_ONLY", "--hidden", "8", "--no-demodulate"]),
         Experiment("vol_h8_L1", "volume features, hidden 8, 1 level (4:4)",
                    BASE + ["--levels", "4:4"]),
-        Experiment("paper_h20_L3", "the original GuideNet: 10 ch -> 20 -> 5, 5x5",
-                   ["--channels", "PAPER_10", "--hidden", "20", "--no-demodulate"]),
+        Experiment("paper_h20_L3", "the original GuideNet: 10 ch -> 20 -> 5, 5x5", SHIP),
         Experiment("vol_h20_L3", "volume features, hidden 20, 3 levels",
                    ["--channels", "VOLUME_FEATURES", "--hidden", "20", "--no-demodulate"]),
         Experiment("vol_h4_L3", "volume features, hidden 4, 3 levels",
@@ -65,18 +73,17 @@ STUDIES: Dict[str, List[Experiment]] = {
         Experiment("vol_h8_L3_demod", "as the candidate, with albedo demodulation",
                    ["--channels", "VOLUME_FEATURES", "--hidden", "8"]),
     ],
-    "loo": [Experiment("vol_h8_L3", "all three datasets (in-domain)", BASE)] + [
-        Experiment(f"no_{d}", f"trained without {d}", BASE + ["--exclude", d])
+    "loo": [Experiment("paper_h20_L3", "all three datasets (in-domain, shipped config)", SHIP)] + [
+        Experiment(f"no_{d}", f"trained without {d}", SHIP + ["--exclude", d])
         for d in DATASETS],
-    "unet": [Experiment("vol_h8_L3", "bilateral grid + GuideNet (ours)", BASE),
+    "unet": [Experiment("paper_h20_L3", "bilateral grid + GuideNet (ours, shipped config)", SHIP),
              Experiment("unet_w16", "U-Net autoencoder (Hofmann et al. 2020 style), width 16",
                         ["--arch", "unet", "--width", "16", "--channels", "VOLUME_FEATURES"])],
 }
 
 
 def run_dir(runs: Path, study: str, name: str) -> Path:
-    # The in-domain model is shared by both studies: train it once.
-    return runs / ("study_vol_h8_L3" if name == "vol_h8_L3" else f"study_{study}_{name}")
+    return runs / SHARED.get(name, f"study_{study}_{name}")
 
 
 def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
@@ -144,28 +151,32 @@ def ensure_onnx(out: Path) -> Path:
                   extra_metadata=extra)
 
 
-def time_cpp(model: Path, data: Optional[Path], repeats: int) -> Dict[str, float]:
-    """Median C++ denoise ms of one validation view at 128² and tiled 4 x 4 to 512²."""
+def time_cpp(models: Sequence[Path], data: Optional[Path], repeats: int
+             ) -> List[Dict[str, float]]:
+    """Median C++ denoise ms of each model on one validation view at 128² and tiled 4 x 4 to
+    512², the models interleaved within each repeat (so load on a shared machine hits all
+    alike)."""
     import numpy as np
 
     from . import exr_io
     from .data import split_views
     from .evaluate import cpp_denoise
-    from .features import required_passes, resolve_channels
     from .train import DEFAULT_DATA
 
     _, val, _ = split_views(data or DEFAULT_DATA, 3)
     passes = exr_io.read_view(val[0])["inputs"][1]
-    import onnx
-    meta = {p.key: p.value for p in onnx.load(str(model)).metadata_props}
-    names = required_passes(resolve_channels(meta["ptv.input_channels"].split(",")))
-    result = {}
+    names = sorted(passes)  # every pass a view has: enough for any model's channels
+    results: List[Dict[str, float]] = [{} for _ in models]
     for size, tiles in ((128, 1), (512, 4)):
         tiled = {k: np.ascontiguousarray(np.tile(v, (tiles, tiles) + (1,) * (v.ndim - 2)))
                  for k, v in passes.items()}
-        runs = [cpp_denoise(model, tiled, names, threads=2)["ms"] for _ in range(repeats)]
-        result[f"ms_{size}"] = float(np.median(runs))
-    return result
+        runs: List[List[float]] = [[] for _ in models]
+        for _ in range(repeats):
+            for i, model in enumerate(models):
+                runs[i].append(cpp_denoise(model, tiled, names, threads=2)["ms"])
+        for i in range(len(models)):
+            results[i][f"ms_{size}"] = float(np.median(runs[i]))
+    return results
 
 
 def atomic_write(path: Path, text: str) -> None:
@@ -199,7 +210,7 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
         for r in results:
             lines.append(f"| `{r['name']}` | {r['ms_128']:.1f} | {r['ms_512']:.1f} | "
                          f"{r['psnr_1spp_mean']:.2f} |")
-        a, b = by.get("vol_h8_L3"), by.get("unet_w16")
+        a, b = results[0], by.get("unet_w16")
         if a and b:
             lines.append(f"\nU-Net / ours: {b['ms_512'] / a['ms_512']:.1f}x the time at 512², "
                          f"{b['psnr_1spp_mean'] - a['psnr_1spp_mean']:+.2f} dB.")
@@ -222,7 +233,7 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
             lines.append(f"- No demodulation over demodulation: {gain:+.2f} dB.")
         return "\n".join(lines) + "\n"
     lines = []
-    ref = by.get("vol_h8_L3")
+    ref = results[0]  # the in-domain model
     for d in DATASETS:
         r = by.get(f"no_{d}")
         if r and ref:
@@ -242,7 +253,7 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--jobs", type=int, default=2,
                    help="runs trained at once, one thread each (default 2)")
     p.add_argument("--data", type=Path, default=None, help="views folder (default: train.py's)")
-    p.add_argument("--repeats", type=int, default=5, help="C++ timing repeats (unet study)")
+    p.add_argument("--repeats", type=int, default=9, help="C++ timing repeats (unet study)")
     p.add_argument("--runs", type=Path, default=DEFAULT_RUNS, help="run folders go here")
     p.add_argument("--results", type=Path, default=DEFAULT_RESULTS,
                    help="write <study>.md/.json here")
@@ -263,8 +274,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     wall = time.monotonic() - start
     results = [summarise(e, o) for e, o in zip(experiments, outs)]
     if args.study == "unet":
-        for r, o in zip(results, outs):
-            r.update(time_cpp(ensure_onnx(o), args.data, args.repeats))
+        timings = time_cpp([ensure_onnx(o) for o in outs], args.data, args.repeats)
+        for r, t in zip(results, timings):
+            r.update(t)
     command = "python Training/ptv_training/study.py " + " ".join(
         sys.argv[1:] if argv is None else list(argv))
     text = (f"# GuideNet {args.study} study\n\n"
