@@ -19,8 +19,10 @@
  * itself streamable and, on each streaming pass (vtkPVRenderView::REQUEST_STREAMING_UPDATE), hands
  * the view an empty "piece" while the mapper is still accumulating. The view then renders again
  * (vtkSMRenderViewProxy::StreamingUpdate), which traces the next frame, until
- * MaximumAccumulatedFrames is reached. The ParaView GUI drives these passes only when streaming
- * is enabled (Settings > General > Enable Streaming); scripts call StreamingUpdate themselves.
+ * MaximumAccumulatedFrames is reached. Scripts call StreamingUpdate themselves; the ParaView GUI
+ * drives these passes only when streaming is enabled (Settings > General > Enable Streaming),
+ * so the plugin's GUI component pqPTVProgressiveRefinement (Plugin/Qt) renders idle views with
+ * a refining representation itself, with default settings.
  *
  * The environment light's colour is the view's Background property (set on the mapper before
  * each render, UseBackgroundAsEnvironment off), so that a pvserver, whose compositing renders on
@@ -88,8 +90,8 @@ public:
   ///@{
   /**
    * Keep asking the view for renders, through its streaming passes, until the mapper has
-   * accumulated MaximumAccumulatedFrames frames. Default on. Without streaming passes (the GUI
-   * with "Enable Streaming" off) it has no effect.
+   * accumulated MaximumAccumulatedFrames frames. Default on. In the GUI (streaming off by
+   * default) pqPTVProgressiveRefinement reads it and renders idle views itself.
    */
   void SetProgressiveRefinement(bool value);
   vtkGetMacro(ProgressiveRefinement, bool);

@@ -1,0 +1,208 @@
+#include "pqPTVProgressiveRefinement.h"
+
+#include "pqApplicationCore.h"
+#include "pqRepresentation.h"
+#include "pqServer.h"
+#include "pqServerManagerModel.h"
+#include "pqView.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMProxy.h"
+#include "vtkSMViewProxy.h"
+
+#include <QApplication>
+
+namespace
+{
+/// The representation type added by Plugin/PathTracedVolumeRepresentation.xml.
+const char* const PTVRepresentationType = "Path Traced Volume";
+
+/**
+ * The proxy of a visible representation shown as "Path Traced Volume" with ProgressiveRefinement
+ * on, or nullptr. The Path Traced Volume sub-proxy's properties are exposed on it.
+ */
+vtkSMProxy* activePathTracedProxy(pqRepresentation* repr)
+{
+  vtkSMProxy* proxy = repr ? repr->getProxy() : nullptr;
+  if (!proxy || !repr->isVisible() || !proxy->GetProperty("Representation") ||
+    !proxy->GetProperty("ProgressiveRefinement") || !proxy->GetProperty("AccumulatedFrames"))
+  {
+    return nullptr;
+  }
+  const char* type = vtkSMPropertyHelper(proxy, "Representation").GetAsString();
+  if (!type || QString(type) != PTVRepresentationType ||
+    vtkSMPropertyHelper(proxy, "ProgressiveRefinement").GetAsInt() == 0)
+  {
+    return nullptr;
+  }
+  return proxy;
+}
+}
+
+//------------------------------------------------------------------------------
+pqPTVProgressiveRefinement::pqPTVProgressiveRefinement(QObject* parentObject)
+  : Superclass(parentObject)
+{
+  this->Timer.setInterval(0);
+  this->Timer.setSingleShot(false);
+  QObject::connect(&this->Timer, &QTimer::timeout, this, &pqPTVProgressiveRefinement::onTimeout);
+}
+
+//------------------------------------------------------------------------------
+pqPTVProgressiveRefinement::~pqPTVProgressiveRefinement() = default;
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::startup()
+{
+  pqApplicationCore* core = pqApplicationCore::instance();
+  if (!core)
+  {
+    return;
+  }
+  pqServerManagerModel* model = core->getServerManagerModel();
+  QObject::connect(
+    model, &pqServerManagerModel::viewAdded, this, &pqPTVProgressiveRefinement::onViewAdded);
+  QObject::connect(
+    model, &pqServerManagerModel::viewRemoved, this, &pqPTVProgressiveRefinement::onViewRemoved);
+  // Views that exist already (the plugin loaded after they were created).
+  for (pqView* view : model->findItems<pqView*>())
+  {
+    this->onViewAdded(view);
+  }
+  this->Timer.start();
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::shutdown()
+{
+  this->Timer.stop();
+  pqApplicationCore* core = pqApplicationCore::instance();
+  if (core)
+  {
+    QObject::disconnect(core->getServerManagerModel(), nullptr, this, nullptr);
+  }
+  for (auto it = this->OwnRenders.begin(); it != this->OwnRenders.end(); ++it)
+  {
+    QObject::disconnect(it.key(), nullptr, this, nullptr);
+  }
+  this->OwnRenders.clear();
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onViewAdded(pqView* view)
+{
+  if (!view || this->OwnRenders.contains(view))
+  {
+    return;
+  }
+  this->OwnRenders.insert(view, 0);
+  QObject::connect(view, &pqView::beginRender, this, &pqPTVProgressiveRefinement::onBeginRender);
+  QObject::connect(view, &pqView::endRender, this, &pqPTVProgressiveRefinement::onEndRender);
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onViewRemoved(pqView* view)
+{
+  this->OwnRenders.remove(view);
+  if (view)
+  {
+    QObject::disconnect(view, nullptr, this, nullptr);
+  }
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onBeginRender()
+{
+  ++this->RendersInProgress;
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onEndRender()
+{
+  if (this->RendersInProgress > 0)
+  {
+    --this->RendersInProgress;
+  }
+  pqView* view = qobject_cast<pqView*>(this->sender());
+  if (!view || view == this->RenderingView)
+  {
+    return;
+  }
+  // Rendered by someone else: something may have changed, which restarts the accumulation.
+  this->OwnRenders[view] = 0;
+  if (!this->Timer.isActive())
+  {
+    this->Timer.start();
+  }
+}
+
+//------------------------------------------------------------------------------
+bool pqPTVProgressiveRefinement::needsRefinement(pqView* view) const
+{
+  if (!view || !view->getViewProxy())
+  {
+    return false;
+  }
+  const bool remote = view->getServer() && view->getServer()->isRemote();
+  for (pqRepresentation* repr : view->getRepresentations())
+  {
+    vtkSMProxy* proxy = activePathTracedProxy(repr);
+    if (!proxy)
+    {
+      continue;
+    }
+    const int maximum = vtkSMPropertyHelper(proxy, "MaximumAccumulatedFrames").GetAsInt();
+    if (remote)
+    {
+      // The client's copy does not render: budget of renders since the last change.
+      if (this->OwnRenders.value(view, 0) < maximum)
+      {
+        return true;
+      }
+      continue;
+    }
+    // Builtin: this process renders; ask the representation itself.
+    proxy->UpdatePropertyInformation();
+    const int traced = vtkSMPropertyHelper(proxy, "LastRenderTraced").GetAsInt();
+    const int frames = vtkSMPropertyHelper(proxy, "AccumulatedFrames").GetAsInt();
+    if (traced && frames < maximum)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onTimeout()
+{
+  if (this->RendersInProgress > 0 || QApplication::mouseButtons() != Qt::NoButton)
+  {
+    // A render is under way (this tick runs from its event processing) or the user is
+    // interacting, and ParaView renders by itself: look again a little later.
+    this->Timer.setInterval(50);
+    return;
+  }
+  this->Timer.setInterval(0);
+  bool pending = false;
+  const QList<pqView*> views = this->OwnRenders.keys();
+  for (pqView* view : views)
+  {
+    if (!this->needsRefinement(view))
+    {
+      continue;
+    }
+    QPointer<pqView> guard(view);
+    this->RenderingView = view;
+    view->getViewProxy()->StillRender(); // synchronous: its endRender is ours
+    this->RenderingView = nullptr;
+    if (guard && this->OwnRenders.contains(view))
+    {
+      ++this->OwnRenders[view];
+      pending = true;
+    }
+  }
+  if (!pending)
+  {
+    this->Timer.stop();
+  }
+}
