@@ -236,6 +236,31 @@ void CopyToDense(const openvdb::GridBase& base, DenseVolume& volume)
 }
 
 //------------------------------------------------------------------------------
+// Whether openvdb::tools::copyFromDense (tolerance 0) would change a value. It decides with
+// math::isApproxEqual(a, b, 0) == !(|a - b| > 0), both for "equals the background" and when it
+// merges equal voxels into tiles (LeafNode::isConstant, pruneTiles). That is a == b except
+// (1) NaN: |NaN - b| > 0 is false, so a NaN voxel silently became inactive background (found by
+// fuzz_vdb_converter) and a leaf starting with NaN would merge into one NaN tile; a NaN
+// background made every voxel background; (2) +0 and -0 compare equal, so a leaf mixing them
+// merges into one sign. Infinities are exact (Inf - Inf is NaN: "equal"; -Inf vs Inf differ).
+template <typename ValueT>
+bool NeedsExactCopy(const ValueT* values, std::size_t count, ValueT background)
+{
+  if (std::isnan(background))
+  {
+    return true;
+  }
+  for (std::size_t n = 0; n < count; ++n)
+  {
+    if (std::isnan(values[n]) || (values[n] == 0 && std::signbit(values[n])))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
 template <typename GridT>
 openvdb::GridBase::Ptr MakeGrid(
   const std::string& name, const DenseVolume& volume, double background)
@@ -245,11 +270,37 @@ openvdb::GridBase::Ptr MakeGrid(
   const openvdb::Coord lo(volume.IndexMin[0], volume.IndexMin[1], volume.IndexMin[2]);
   const openvdb::Coord hi(lo[0] + volume.Dims[0] - 1, lo[1] + volume.Dims[1] - 1,
     lo[2] + volume.Dims[2] - 1);
-  // copyFromDense only reads the values; Dense has no read-only flavour.
-  openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(
-    openvdb::CoordBBox(lo, hi), static_cast<ValueT*>(const_cast<void*>(volume.Data)));
-  // Tolerance 0: exactly the background value becomes inactive background.
-  openvdb::tools::copyFromDense(dense, *grid, static_cast<ValueT>(0));
+  const ValueT bg = static_cast<ValueT>(background);
+  const ValueT* values = static_cast<const ValueT*>(volume.Data);
+  const std::size_t count = volume.GetNumberOfValues();
+  if (NeedsExactCopy(values, count, bg))
+  {
+    // Voxel by voxel: every value that is not == background (NaN included) becomes an active
+    // voxel holding exactly its bits; no tile merging (see NeedsExactCopy).
+    typename GridT::Accessor acc = grid->getAccessor();
+    std::size_t n = 0;
+    for (int k = 0; k < volume.Dims[2]; ++k)
+    {
+      for (int j = 0; j < volume.Dims[1]; ++j)
+      {
+        for (int i = 0; i < volume.Dims[0]; ++i, ++n)
+        {
+          if (!(values[n] == bg))
+          {
+            acc.setValueOn(openvdb::Coord(lo[0] + i, lo[1] + j, lo[2] + k), values[n]);
+          }
+        }
+      }
+    }
+  }
+  else
+  {
+    // copyFromDense only reads the values; Dense has no read-only flavour.
+    openvdb::tools::Dense<ValueT, openvdb::tools::LayoutXYZ> dense(
+      openvdb::CoordBBox(lo, hi), static_cast<ValueT*>(const_cast<void*>(volume.Data)));
+    // Tolerance 0: exactly the background value becomes inactive background.
+    openvdb::tools::copyFromDense(dense, *grid, static_cast<ValueT>(0));
+  }
 
   // index -> world: world = Origin + (ijk - IndexMin) * s = ijk * s + (Origin - IndexMin * s).
   const double s = volume.Spacing[0];

@@ -122,7 +122,9 @@ VTKPTVFILTERS_EXPORT bool WriteScalarGrid(const std::string& file, const std::st
  * DoubleGrid (per IsDouble) of class fog volume with the given background value and a transform
  * that maps voxel IndexMin + (i, j, k) to Origin + (i, j, k) * Spacing. Values equal to
  * @a background (tolerance 0: exactly equal) become inactive background voxels; all others are
- * active. A volume whose values all equal the background gives a grid with no active voxels
+ * active, each with its exact bits (NaN and infinities included: NaN is never == background;
+ * OpenVDB's copyFromDense, which treats NaN as equal to anything, is used only for volumes without
+ * NaN or -0). A volume whose values all equal the background gives a grid with no active voxels
  * (ReadScalarGridInfo rejects such grids).
  * Spacing must be positive and equal along x, y and z (relative tolerance 1e-6).
  * The file is written to "<file>.tmp-<pid>" and renamed into place, so a failure never leaves a

@@ -10,8 +10,10 @@
  *
  * Values exactly equal to Background (tolerance 0) become inactive background voxels, all other
  * values active voxels; vtkPTVOpenVDBReader therefore returns the bounding box of the voxels that
- * differ from the background. A volume that holds only the background value gives a grid with
- * no active voxels, which the reader rejects as empty.
+ * differ from the background. NaN never equals the background: NaN, +-Inf and -0 voxels are
+ * stored as active voxels with their exact bits (-0 equals a background of 0, though). A volume
+ * that holds only the background value gives a grid with no active voxels, which the reader
+ * rejects as empty.
  *
  * The file is written to a temporary file beside FileName and renamed into place, so a failed
  * write never leaves a partial file. Errors (no input, no or unsuitable scalars, non-uniform

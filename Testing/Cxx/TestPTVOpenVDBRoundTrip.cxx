@@ -8,6 +8,10 @@
 //     read just their part.
 //  4. grid listing: files with two scalar grids and with a vec3s grid listed before a scalar one;
 //     default grid selection, GridName selection, CanReadFile.
+//  5. non-finite values (regression, found by fuzz_vdb_converter): NaN voxels used to become
+//     inactive background silently (OpenVDB's copyFromDense treats NaN as equal to anything);
+//     NaN, +-Inf and -0 (background 1) must read back bit for bit, float and double, including a
+//     whole 8^3 leaf starting with NaN, and the fuzzer's seed image (1, 2, NaN, +Inf, zeros).
 #include "ptvTestCheck.h"
 #include "ptvOpenVDBGrid.h"
 #include "vtkDataArray.h"
@@ -26,9 +30,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -316,6 +322,119 @@ void BorderBackgroundRoundTrip(const std::string& dir)
     "border: the two pieces must cover the whole 9x8x6 box");
 }
 
+// Case 5: NaN / Inf / -0 voxels round-trip bit for bit.
+template <typename T>
+void NonFiniteRoundTrip(const std::string& dir, double background, int nx, int ny, int nz,
+  const std::function<T(int, int, int)>& f, const std::string& label)
+{
+  const std::string file = dir + "/ptv_roundtrip_nonfinite.vdb";
+  const int extent[6] = { 0, nx - 1, 0, ny - 1, 0, nz - 1 };
+  const double origin[3] = { -8.0, -8.0, -8.0 };
+  const int type = sizeof(T) == 8 ? VTK_DOUBLE : VTK_FLOAT;
+  vtkSmartPointer<vtkImageData> image = MakeImage(extent, 1.0, origin, type, "density",
+    [](int, int, int) { return 0.0; });
+  vtkDataArray* in = image->GetPointData()->GetScalars();
+  T* inData = static_cast<T*>(in->GetVoidPointer(0));
+  // Active bounding box (values that are not == background; NaN never is).
+  int lo[3] = { nx, ny, nz }, hi[3] = { -1, -1, -1 };
+  vtkIdType n = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i, ++n)
+      {
+        inData[n] = f(i, j, k);
+        if (!(inData[n] == static_cast<T>(background)))
+        {
+          const int ijk[3] = { i, j, k };
+          for (int c = 0; c < 3; ++c)
+          {
+            lo[c] = std::min(lo[c], ijk[c]);
+            hi[c] = std::max(hi[c], ijk[c]);
+          }
+        }
+      }
+  Check(Write(image, file, "density", background), label + ": Write() must succeed");
+  vtkNew<vtkPTVOpenVDBReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkImageData* out = reader->GetOutput();
+  int dims[3];
+  out->GetDimensions(dims);
+  bool boxOk = true;
+  for (int c = 0; c < 3; ++c)
+  {
+    boxOk = boxOk && dims[c] == hi[c] - lo[c] + 1;
+  }
+  Check(boxOk,
+    label + ": the read box must be the box of the non-background voxels (NaN lost?), got " +
+      std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]));
+  vtkDataArray* outValues = out->GetPointData()->GetScalars();
+  if (!boxOk || !outValues || outValues->GetDataType() != type)
+  {
+    Check(false, label + ": no values of the input's type to compare");
+    return;
+  }
+  const T* outData = static_cast<const T*>(outValues->GetVoidPointer(0));
+  int mismatches = 0;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+      {
+        const T a = inData[(lo[0] + i) + nx * ((lo[1] + j) + ny * (lo[2] + k))];
+        const T b = outData[i + dims[0] * (j + dims[1] * k)];
+        const bool bothBackground =
+          a == static_cast<T>(background) && b == static_cast<T>(background);
+        if (std::memcmp(&a, &b, sizeof(T)) != 0 && !bothBackground && mismatches++ < 5)
+        {
+          std::ostringstream msg;
+          msg << label << ": value at (" << i << ", " << j << ", " << k << ") is " << b
+              << ", expected " << a;
+          Check(false, msg.str());
+        }
+      }
+  Check(mismatches == 0, label + ": " + std::to_string(mismatches) + " values differ");
+}
+
+template <typename T>
+void NonFiniteRoundTrips(const std::string& dir, const std::string& type)
+{
+  const T nan = std::numeric_limits<T>::quiet_NaN();
+  const T inf = std::numeric_limits<T>::infinity();
+  // The fuzzer's seed small_float: 4x3x2, first row 1, 2, NaN, +Inf, the rest 0 (background 0).
+  NonFiniteRoundTrip<T>(dir, 0.0, 4, 3, 2,
+    [&](int i, int j, int k) -> T {
+      const T row[4] = { 1, 2, nan, inf };
+      return (j == 0 && k == 0) ? row[i] : T(0);
+    },
+    type + " fuzz seed");
+  // Every kind of value, background 1 (so -0 and +0 are active and must keep their sign).
+  NonFiniteRoundTrip<T>(dir, 1.0, 11, 9, 10,
+    [&](int i, int j, int k) -> T {
+      switch ((i + 3 * j + 5 * k) % 7)
+      {
+        case 0: return nan;
+        case 1: return inf;
+        case 2: return -inf;
+        case 3: return T(-0.0);
+        case 4: return T(0.0);
+        case 5: return T(1); // background
+        default: return T(0.5 * i - j);
+      }
+    },
+    type + " mixed");
+  // One whole 8^3 leaf that starts with NaN, every other voxel 3 (OpenVDB's tile merging compares
+  // with the first value), next to an all-NaN leaf and an all +Inf leaf.
+  NonFiniteRoundTrip<T>(dir, 0.0, 24, 8, 8,
+    [&](int i, int, int) -> T {
+      if (i < 8)
+      {
+        return i == 0 ? nan : T(3);
+      }
+      return i < 16 ? nan : inf;
+    },
+    type + " leaves");
+}
+
 // Case 4: grid listing and selection.
 void GridListing(const std::string& dir)
 {
@@ -440,6 +559,8 @@ int TestPTVOpenVDBRoundTrip(int argc, char* argv[])
   WholeBoxRoundTrip(dir, VTK_DOUBLE);
   BorderBackgroundRoundTrip(dir);
   GridListing(dir);
+  NonFiniteRoundTrips<float>(dir, "float");
+  NonFiniteRoundTrips<double>(dir, "double");
   if (failures)
   {
     std::cerr << failures << " check(s) failed\n";
