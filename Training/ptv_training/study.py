@@ -122,6 +122,7 @@ def summarise(exp: Experiment, out: Path) -> Dict[str, Any]:
             "channels": len(info["channels"]), "parameters": info["parameters"],
             "macs_per_pixel": info["macs_per_pixel"], "levels": info["levels"],
             "best_epoch": ck["state"]["best_epoch"], "steps": ck["state"]["steps"],
+            "train_minutes": ck["state"]["elapsed"] / 60,
             "psnr_1spp": per, "noisy_1spp": noisy,
             "psnr_1spp_mean": sum(per.values()) / len(per),
             "val_psnr_1_2_4spp": ck["state"]["best_psnr"]}
@@ -188,17 +189,19 @@ def atomic_write(path: Path, text: str) -> None:
 
 
 def table(results: List[Dict[str, Any]], reference: Optional[Dict[str, Any]] = None) -> str:
-    head = ("| experiment | what | params | MACs/px | " + " | ".join(DATASETS)
-            + " | mean | Δ vs first |\n|---|---|---|---|" + "---|" * len(DATASETS) + "---|---|\n")
+    head = ("| experiment | what | params | MACs/px | train min | " + " | ".join(DATASETS)
+            + " | mean | Δ vs first |\n|---|---|---|---|---|" + "---|" * len(DATASETS)
+            + "---|---|\n")
     first = reference or results[0]
     lines = []
     for r in results:
         cells = " | ".join(f"{r['psnr_1spp'][d]:.2f}" for d in DATASETS)
         lines.append(f"| `{r['name']}` | {r['what']} | {r['parameters']} | "
-                     f"{r['macs_per_pixel']} | {cells} | {r['psnr_1spp_mean']:.2f} | "
+                     f"{r['macs_per_pixel']} | {r['train_minutes']:.1f} | {cells} | "
+                     f"{r['psnr_1spp_mean']:.2f} | "
                      f"{r['psnr_1spp_mean'] - first['psnr_1spp_mean']:+.2f} |")
     noisy = " | ".join(f"{results[0]['noisy_1spp'][d]:.2f}" for d in DATASETS)
-    lines.append(f"| noisy 1 spp | — | — | — | {noisy} | "
+    lines.append(f"| noisy 1 spp | — | — | — | — | {noisy} | "
                  f"{sum(results[0]['noisy_1spp'].values()) / len(DATASETS):.2f} | |")
     return head + "\n".join(lines) + "\n"
 
@@ -281,8 +284,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         sys.argv[1:] if argv is None else list(argv))
     text = (f"# GuideNet {args.study} study\n\n"
             f"Command: `{command}` ({args.steps} steps per run, seed {args.seed}, batch 4 "
-            f"views, 1 thread per run; this invocation's wall time {wall / 60:.1f} min, "
-            "runs already trained are reused).\n\n"
+            f"views, 1 thread per run, several runs sharing the 2 cores; this invocation's wall "
+            f"time {wall / 60:.1f} min, runs already trained are reused; 'train min' is each "
+            "run's own training time).\n\n"
             "Validation PSNR (dB) at 1 spp, tone-mapped, against the 1024-spp reference, mean "
             "over each dataset's held-out views.\n\n" + table(results) + "\n"
             + verdict(args.study, results))
