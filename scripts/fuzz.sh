@@ -3,10 +3,19 @@
 #   C++ (clang-14 + libFuzzer, ASan + UBSan; Testing/Fuzz/, built in build-fuzz/):
 #     fuzz_openvdb_reader   bytes as a .vdb -> vtkPTVOpenVDBReader
 #     fuzz_vdb_converter    bytes -> vtkImageData -> vtkPTVOpenVDBWriter -> reader, round trip
+#     fuzz_exr_pass_reader  bytes as an .exr -> vtkPTVEXRPassReader
+#     fuzz_exr_pass_roundtrip  bytes -> pass image -> vtkPTVEXRPassWriter -> reader, round trip
 #   Python (atheris, libFuzzer's engine for Python; Testing/Fuzz/fuzz_exr_io.py):
 #     fuzz_exr_io           bytes as an .exr -> ptv_training.exr_io.read_exr / verify_view_file
 # Seeds: Testing/Fuzz/corpus/<harness>/ (small, committed); the growing corpus and any crash
 # artifacts stay in build-fuzz/. A finding exits non-zero and leaves build-fuzz/artifacts/<file>.
+# fuzz_openvdb_reader runs in fork mode past crashes (-fork=1 -ignore_crashes=1 -ignore_ooms=1):
+# OpenVDB allocates compressed blocks inside a grid's topology/data with a size read from the file
+# (io::bloscFromStream / zipFromStream / readData) before it can check it. A normal build throws
+# std::bad_alloc, which the reader reports; ASan aborts instead (its operator new never throws).
+# Afterwards every new artifact is replayed and triaged: an allocation-size-too-big or
+# out-of-memory whose stack is in OpenVDB's stream decoding is counted as the known limitation
+# (docs/reliability.md); anything else is a finding and fails the script.
 # Usage: scripts/fuzz.sh [seconds per harness, default 300] [harness...]
 # Needs: apt-get install clang-14 libclang-rt-14-dev (libFuzzer); pip install atheris (done here
 # into .deps/atheris when missing).
@@ -17,7 +26,8 @@ LOCK="${PTV_BUILD_LOCK:-/tmp/ptv-build.lock}"
 SECONDS_EACH="${1:-300}"
 shift || true
 HARNESSES=("$@")
-((${#HARNESSES[@]})) || HARNESSES=(fuzz_openvdb_reader fuzz_vdb_converter fuzz_exr_io)
+((${#HARNESSES[@]})) || HARNESSES=(fuzz_openvdb_reader fuzz_vdb_converter fuzz_exr_pass_reader
+  fuzz_exr_pass_roundtrip fuzz_exr_io)
 # Memory caps: a corrupt .vdb once made OpenVDB allocate 24 GB; a capped run reports that as
 # "out-of-memory (malloc(...))" instead of taking the machine down.
 LIMITS=(-rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=20 -max_len=16384 -print_final_stats=1)
@@ -53,13 +63,35 @@ for h in "${HARNESSES[@]}"; do
   else
     cmd=("$BUILD/$h")
   fi
+  extra=()
+  [[ "$h" == fuzz_openvdb_reader ]] && extra=(-fork=1 -ignore_crashes=1 -ignore_ooms=1)
+  before="$(ls "$BUILD/artifacts" | grep "^$h-" || true)"
   set +e
-  "${cmd[@]}" "${LIMITS[@]}" -max_total_time="$SECONDS_EACH" \
+  "${cmd[@]}" "${LIMITS[@]}" "${extra[@]}" -max_total_time="$SECONDS_EACH" \
     -artifact_prefix="$BUILD/artifacts/$h-" "$corpus" "$seeds" > "$BUILD/$h.log" 2>&1
   status=$?
   set -e
-  grep -E "^(#[0-9]+ *DONE|stat::|==[0-9]+==ERROR|SUMMARY|Done [0-9]+ runs)|artifact|INFO: Seed" \
-    "$BUILD/$h.log" || true
+  grep -E "^(#[0-9]+ *DONE|stat::|==[0-9]+==ERROR|SUMMARY|Done [0-9]+ runs)|artifact|INFO: Seed|^#[0-9]+: cov" \
+    "$BUILD/$h.log" | tail -n 40 || true
+  if ((${#extra[@]})); then
+    # Fork mode: triage the new artifacts (see the top).
+    known=0 unknown=0
+    for a in $(ls "$BUILD/artifacts" | grep "^$h-" || true); do
+      grep -qxF "$a" <<<"$before" && continue
+      "${cmd[@]}" -rss_limit_mb=2048 -malloc_limit_mb=1024 -runs=1 "$BUILD/artifacts/$a" \
+        > "$BUILD/triage.log" 2>&1 || true
+      if grep -qE "allocation-size-too-big|out-of-memory" "$BUILD/triage.log" &&
+        grep -qE "openvdb::v[0-9_]+::io::(bloscFromStream|zipFromStream|readData)" "$BUILD/triage.log"; then
+        known=$((known + 1))
+      else
+        unknown=$((unknown + 1))
+        echo "FINDING: $BUILD/artifacts/$a"
+        grep -E "ERROR|SUMMARY|runtime error|#[0-9] " "$BUILD/triage.log" | head -n 12
+      fi
+    done
+    echo "== $h: $known artifact(s) of the known OpenVDB allocation, $unknown other finding(s)"
+    status=$((unknown > 0))
+  fi
   echo "== $h: exit $status (log: $BUILD/$h.log)"
   ((status == 0)) || rc=1
 done

@@ -1,0 +1,58 @@
+// libFuzzer: arbitrary bytes as an .exr file through vtkPTVEXRPassReader (and CanReadFile).
+// The reader must either produce an image whose every array has one tuple per pixel, or report
+// an error with an empty output; never crash, hang or allocate without bound (scripts/fuzz.sh
+// caps memory with -rss_limit_mb / -malloc_limit_mb).
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkObject.h"
+#include "vtkPTVEXRPassReader.h"
+#include "vtkPointData.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <unistd.h>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+  static const std::string file = [] {
+    vtkObject::GlobalWarningDisplayOff(); // errors are expected; they are not findings
+    const char* dir = std::getenv("TMPDIR");
+    return std::string(dir && *dir ? dir : "/tmp") + "/ptv_fuzz_" + std::to_string(getpid()) +
+      ".exr";
+  }();
+  std::FILE* f = std::fopen(file.c_str(), "wb");
+  if (!f)
+  {
+    std::abort();
+  }
+  if (size)
+  {
+    std::fwrite(data, 1, size, f);
+  }
+  std::fclose(f);
+
+  vtkPTVEXRPassReader::CanReadFile(file.c_str());
+  vtkNew<vtkPTVEXRPassReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkImageData* out = reader->GetOutput();
+  const vtkIdType points = out->GetNumberOfPoints();
+  vtkPointData* pd = out->GetPointData();
+  if (points > 0 && pd->GetNumberOfArrays() == 0)
+  {
+    std::abort(); // an image without passes
+  }
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = pd->GetArray(a);
+    if (!array || array->GetNumberOfTuples() != points || !array->GetName())
+    {
+      std::abort(); // a pass that does not cover the image, or has no name
+    }
+  }
+  return 0;
+}
