@@ -5,8 +5,12 @@
 #include "pqServer.h"
 #include "pqServerManagerModel.h"
 #include "pqView.h"
+#include "vtkNew.h"
+#include "vtkPTVRepresentationInformation.h"
+#include "vtkPVSession.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
+#include "vtkSMSession.h"
 #include "vtkSMViewProxy.h"
 
 #include <QApplication>
@@ -142,7 +146,11 @@ bool pqPTVProgressiveRefinement::needsRefinement(pqView* view) const
   {
     return false;
   }
-  const bool remote = view->getServer() && view->getServer()->isRemote();
+  vtkSMSession* session = view->getServer() ? view->getServer()->session() : nullptr;
+  if (!session)
+  {
+    return false;
+  }
   for (pqRepresentation* repr : view->getRepresentations())
   {
     vtkSMProxy* proxy = activePathTracedProxy(repr);
@@ -150,23 +158,30 @@ bool pqPTVProgressiveRefinement::needsRefinement(pqView* view) const
     {
       continue;
     }
+    // Safety cap: never more renders since the last change than frames to accumulate.
     const int maximum = vtkSMPropertyHelper(proxy, "MaximumAccumulatedFrames").GetAsInt();
-    if (remote)
+    if (this->OwnRenders.value(view, 0) >= maximum)
     {
-      // The client's copy does not render: budget of renders since the last change.
-      if (this->OwnRenders.value(view, 0) < maximum)
+      continue;
+    }
+    // The progress of the copy that renders (the server's in client/server mode; the client's
+    // copy and its information properties never render there).
+    vtkNew<vtkPTVRepresentationInformation> info;
+    session->GatherInformation(vtkPVSession::RENDER_SERVER_ROOT, info, proxy->GetGlobalID());
+    if (info->GetFound() && info->GetNeedsRefinement())
+    {
+      return true;
+    }
+    // Client/server with local rendering (data under the view's RemoteRenderThreshold): the
+    // client's copy renders; its information properties tell.
+    if (view->getServer()->isRemote())
+    {
+      proxy->UpdatePropertyInformation();
+      if (vtkSMPropertyHelper(proxy, "LastRenderTraced").GetAsInt() &&
+        vtkSMPropertyHelper(proxy, "AccumulatedFrames").GetAsInt() < maximum)
       {
         return true;
       }
-      continue;
-    }
-    // Builtin: this process renders; ask the representation itself.
-    proxy->UpdatePropertyInformation();
-    const int traced = vtkSMPropertyHelper(proxy, "LastRenderTraced").GetAsInt();
-    const int frames = vtkSMPropertyHelper(proxy, "AccumulatedFrames").GetAsInt();
-    if (traced && frames < maximum)
-    {
-      return true;
     }
   }
   return false;

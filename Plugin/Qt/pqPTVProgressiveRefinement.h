@@ -9,17 +9,15 @@
  * accumulation is not complete, and stops when every such representation is complete. It works
  * with ParaView's default settings ("Enable Streaming" is not needed).
  *
- * The rule for "complete":
- * - builtin session (the GUI process renders): the representation's information properties
- *   LastRenderTraced and AccumulatedFrames, read after each render: complete when the last
- *   render traced nothing or AccumulatedFrames >= MaximumAccumulatedFrames;
- * - remote session (pvserver renders; the client's copy of the representation never renders):
- *   a client-side budget, the number of renders this component issued for the view since the
- *   last render it did not issue (any interaction, property change, colour-map edit or resize
- *   renders the view, and every such change restarts the mapper's accumulation): complete when
- *   that count reaches MaximumAccumulatedFrames. A render that did not change anything resets
- *   the budget too; the extra renders then trace nothing on the server (converged) and only
- *   deliver the image again.
+ * A representation is complete when vtkPTVRepresentationInformation, gathered from the render
+ * server's root (the process that renders: the GUI itself in a builtin session, the pvserver in
+ * client/server mode, whose progress the client's copy and its information properties do not
+ * see), reports no need for refinement: the last render traced nothing or AccumulatedFrames
+ * reached MaximumAccumulatedFrames (with client/server local rendering, below the view's
+ * RemoteRenderThreshold, the client's copy renders: its information properties are read too).
+ * As a safety cap, at most MaximumAccumulatedFrames renders
+ * are issued for a view since the last render this component did not issue (any interaction,
+ * property change, colour-map edit or resize renders the view and restarts the accumulation).
  *
  * Renders are issued from a zero-interval QTimer, i.e. once Qt has processed the pending events,
  * one StillRender per view and tick, never inside another render (ParaView processes events

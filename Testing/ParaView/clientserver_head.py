@@ -17,7 +17,9 @@ connect to a server, so Testing/CMakeLists.txt registers this file with pvpython
    The information-only properties (AccumulatedFrames, LastRenderTraced, ActiveBackend,
    DenoiserStatus) are checked in the builtin session only: ParaView pulls information-only
    properties of a proxy that also lives on the client from the client's object, which never
-   renders in client/server mode, so there they read 0 / "none" (printed, not checked);
+   renders in client/server mode, so there they read 0 / "none" (printed, not checked). In both
+   sessions vtkPTVRepresentationInformation, gathered from the render server's root
+   (Session.GatherInformation), must report the 8 frames, CPU or CUDA and the fixed guide;
 3. the server is stopped (also on failure, from ``finally``) and its log must hold no error.
 Exits non-zero on any failed check; prints PASS at the end.
 """
@@ -92,6 +94,17 @@ def info(display, name: str):
     return display.GetProperty(name).GetData()
 
 
+def gather_progress(display):
+    """vtkPTVRepresentationInformation gathered from the render server's root (the process
+    that renders; the builtin session's own in builtin mode)."""
+    from paraview import servermanager
+    from pathtracedvolume.vtkPTVParaViewViews import vtkPTVRepresentationInformation
+    gathered = vtkPTVRepresentationInformation()
+    servermanager.ActiveConnection.Session.GatherInformation(
+        servermanager.vtkPVSession.RENDER_SERVER_ROOT, gathered, display.SMProxy.GetGlobalID())
+    return gathered
+
+
 def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
     """Render until converged (progressive refinement through the view's streaming passes, as
     the GUI does), save a screenshot, write the passes; returns the screenshot."""
@@ -112,6 +125,21 @@ def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
         check(backend in ("CPU", "CUDA"), "%s: ActiveBackend is CPU or CUDA" % name)
         check(str(status).startswith("fixed guide"),
               "%s: DenoiserStatus names the fixed guide" % name)
+    # Where the view renders (the server in client/server mode), any session.
+    gathered = gather_progress(display)
+    print("%s gathered from the render server: Found=%r AccumulatedFrames=%d "
+          "MaximumAccumulatedFrames=%d NeedsRefinement=%r ActiveBackend=%r DenoiserStatus=%r "
+          "LastTraceTime=%.1f ms" % (name, gathered.GetFound(), gathered.GetAccumulatedFrames(),
+                                      gathered.GetMaximumAccumulatedFrames(),
+                                      gathered.GetNeedsRefinement(), gathered.GetActiveBackend(),
+                                      gathered.GetDenoiserStatus(), gathered.GetLastTraceTime()))
+    check(gathered.GetFound(), "%s: the gathered information found the representation" % name)
+    check(gathered.GetAccumulatedFrames() == FRAMES and not gathered.GetNeedsRefinement(),
+          "%s: gathered AccumulatedFrames=%d, refinement complete" % (name, FRAMES))
+    check(gathered.GetActiveBackend() in ("CPU", "CUDA"),
+          "%s: gathered ActiveBackend is CPU or CUDA" % name)
+    check(gathered.GetDenoiserStatus().startswith("fixed guide"),
+          "%s: gathered DenoiserStatus names the fixed guide" % name)
     png = os.path.join(TEMP, name + ".png")
     SaveScreenshot(png, view, ImageResolution=SIZE, TransparentBackground=0)
     exr = display.PassesFileName

@@ -33,7 +33,13 @@ os.makedirs(TEMP, exist_ok=True)
 RESULT = os.path.join(TEMP, "gui_progressive_refinement.txt")
 HEAD = os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")
 
+from paraview import servermanager  # noqa: E402
+
+REMOTE = servermanager.ActiveConnection.IsRemote()
+if REMOTE:  # paraview --server-url=cs://host:port: the server needs the plugin too
+    LoadPlugin(os.environ["PTV_PLUGIN"], remote=True, ns=globals())
 LoadPlugin(os.environ["PTV_PLUGIN"], remote=False, ns=globals())
+from pathtracedvolume.vtkPTVParaViewViews import vtkPTVRepresentationInformation  # noqa: E402
 reader = XMLImageDataReader(FileName=[HEAD])
 view = GetActiveViewOrCreate("RenderView")
 GetLayout().PreviewMode = [320, 320]  # a small view: a few seconds per pass on 2 cores
@@ -41,6 +47,8 @@ display = Show(reader, view)
 display.SetRepresentationType("Path Traced Volume")
 ColorBy(display, ("POINTS", "ImageScalars"))
 display.DenoiserUseNetwork = 0
+if REMOTE:
+    view.RemoteRenderThreshold = 0  # render on the server
 display.MaximumAccumulatedFrames = FRAMES
 camera = view.GetActiveCamera()
 camera.SetPosition(0, -1, 0)
@@ -78,9 +86,21 @@ view.SMProxy.AddObserver(vtkCommand.EndEvent, on_render)
 
 
 def progress():
-    display.UpdatePropertyInformation()
-    return (display.GetProperty("AccumulatedFrames").GetData(),
-            display.GetProperty("LastRenderTraced").GetData())
+    """(AccumulatedFrames, LastRenderTraced) where the view renders: gathered from the render
+    server's root (the GUI itself in a builtin session); in a builtin session the information
+    properties must agree."""
+    gathered = vtkPTVRepresentationInformation()
+    servermanager.ActiveConnection.Session.GatherInformation(
+        servermanager.vtkPVSession.RENDER_SERVER_ROOT, gathered, display.SMProxy.GetGlobalID())
+    frames, traced = gathered.GetAccumulatedFrames(), int(gathered.GetLastRenderTraced())
+    if not REMOTE:
+        display.UpdatePropertyInformation()
+        props = (display.GetProperty("AccumulatedFrames").GetData(),
+                 display.GetProperty("LastRenderTraced").GetData())
+        if props != (frames, traced):
+            log("information properties %r != gathered %r" % (props, (frames, traced)))
+            finish(False)
+    return frames, traced
 
 
 def on_timer(caller, event):
@@ -124,4 +144,5 @@ if interactor is None:
     finish(False)
 interactor.AddObserver(vtkCommand.TimerEvent, on_timer)
 interactor.CreateRepeatingTimer(100)
-log("setup done (GUI idle from now on; Enable Streaming is off)")
+log("setup done (%s session; GUI idle from now on; Enable Streaming is off)"
+    % ("client/server" if REMOTE else "builtin"))
