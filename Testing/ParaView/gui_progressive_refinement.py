@@ -1,17 +1,22 @@
 """ParaView GUI test: progressive refinement while the GUI is idle, with default settings.
 
 Run as ``paraview --dr --script=gui_progressive_refinement.py`` under Xvfb with ``PTV_PLUGIN``,
-``PTV_CACHE_DIR`` and ``PTV_TEST_TEMP`` set (Testing/CMakeLists.txt does, test
-PTV.ParaView.gui_progressive_refinement). The script itself never renders while it waits:
+``PTV_CACHE_DIR``, ``PTV_TEST_TEMP`` and ``PYTHONPATH`` (<build>/python) set (Testing/CMakeLists.txt
+does, test PTV.ParaView.gui_progressive_refinement), or connected to a pvserver with
+``--server-url=cs://127.0.0.1:<port>`` (gui_clientserver.sh, test
+PTV.ParaView.gui_progressive_refinement_clientserver; the view then renders on the server). The
+script itself never renders while it waits:
 
 1. loads the plugin in the GUI (its auto-start component pqPTVProgressiveRefinement starts),
    shows the head CT as "Path Traced Volume" with MaximumAccumulatedFrames=8 and returns, so
    that the GUI's event loop runs; "Enable Streaming" stays off (default settings, --dr);
-2. a repeating timer of the view's Qt interactor (it does not render) polls the representation's
-   AccumulatedFrames: the GUI must reach 8 frames on its own, then stop
-   rendering (no render for 1.5 s after that);
+2. a repeating timer of the view's Qt interactor (it does not render) polls the progress where
+   the view renders (vtkPTVRepresentationInformation gathered from the render server's root; in
+   a builtin session the information properties must agree): the GUI must reach 8 frames on its
+   own, then stop rendering (no render for 1.5 s after that);
 3. an "interaction": the camera turns and the view renders once (as the GUI does on a mouse
-   drag): the accumulation restarts at frame 1 and again reaches 8 on its own, then stops;
+   drag): the accumulation restarts (1 or 2 frames after that render, fewer than 8) and again
+   reaches 8 on its own, then stops;
 4. writes PASS or FAIL lines to $PTV_TEST_TEMP/gui_progressive_refinement.txt, prints them and
    exits (os._exit: the GUI has no Python quit command), with status 0 on success.
 A global deadline (150 s) fails the test if the accumulation never completes. Without the
