@@ -193,7 +193,8 @@ bool CheckMetaMap(BoundedReader& r, std::string& why)
 //------------------------------------------------------------------------------
 // Check the layout of a VDB file before OpenVDB reads it: OpenVDB trusts the sizes and offsets
 // it reads (a corrupt string length or metadata size made it allocate gigabytes; a truncated file
-// fails only half-way through a grid). Walks the header (format >= 222, OpenVDB 3.0 and later),
+// fails only half-way through a grid). Walks the header (format >= 222, OpenVDB 3.0 and later;
+// older formats are refused),
 // the file metadata and each grid descriptor, and checks that every declared size fits, that each
 // grid's [grid, block, end) offsets are ordered and inside the file, and that the grid's own
 // metadata fits before its data block. What lies inside a grid's topology and data blocks (their
@@ -245,7 +246,12 @@ bool CheckLayoutOf(const std::string& file, std::string& error)
   }
   if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
   {
-    return true; // an older layout: left to OpenVDB
+    // Older layouts are not walked; rather than handing them to OpenVDB unchecked (a zeroed
+    // version field let a 2.5 GB string through), they are refused.
+    error = "file " + Quote(file) + " has OpenVDB format version " + std::to_string(version) +
+      ", older than OpenVDB 3.0's 222, which this reader does not support (or it is corrupt); " +
+      "re-save it with a current OpenVDB";
+    return false;
   }
   char hasOffsets = 0;
   char uuid[36];

@@ -5,6 +5,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
@@ -213,6 +214,9 @@ void vtkPTVEXRPassWriter::WriteData()
       }
     }
     std::vector<float> buffer(static_cast<size_t>(pixels) * comps);
+    // Float arrays are copied as they are: through GetComponent's double a signalling NaN would
+    // come back quiet (bits changed; found by fuzz_exr_pass_roundtrip).
+    vtkFloatArray* floats = vtkFloatArray::SafeDownCast(array);
     for (int j = 0; j < height; ++j)
     {
       const vtkIdType src = static_cast<vtkIdType>(j) * width;
@@ -221,7 +225,9 @@ void vtkPTVEXRPassWriter::WriteData()
       {
         for (int c = 0; c < comps; ++c)
         {
-          buffer[(dst + i) * comps + c] = static_cast<float>(array->GetComponent(src + i, c));
+          buffer[(dst + i) * comps + c] = floats
+            ? floats->GetTypedComponent(src + i, c)
+            : static_cast<float>(array->GetComponent(src + i, c));
         }
       }
     }

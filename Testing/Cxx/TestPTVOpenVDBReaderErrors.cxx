@@ -234,6 +234,9 @@ void ReaderErrors(const std::string& dir)
     const std::string farEnd = damaged("end_offset", bytes.size(), { { offsets + 16, 0x7FFFFFFFu } });
     ExpectReadError(
       "end offset past the file", farEnd.c_str(), nullptr, { farEnd, "truncated or corrupt" });
+    const std::string oldVersion = damaged("version0", bytes.size(), { { 8, 0u } });
+    ExpectReadError("format version 0", oldVersion.c_str(), nullptr,
+      { oldVersion, "format version 0", "older than OpenVDB 3.0" });
     const std::string gridMetaCount =
       damaged("grid_metadata", bytes.size(), { { gridMeta, 0x10000000u } });
     ExpectReadError("grid metadata count", gridMetaCount.c_str(), nullptr,
