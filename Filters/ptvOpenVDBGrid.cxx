@@ -268,7 +268,11 @@ bool CheckLayoutOf(const std::string& file, std::string& error)
   }
   if (!hasOffsets)
   {
-    return true; // a streamed file without grid offsets: no descriptors to check
+    // Written by openvdb::io::Stream: the grids follow one another without offsets, so nothing
+    // bounds what OpenVDB would read (fuzz_openvdb_reader: a 2 GB grid name). Refused.
+    error = "file " + Quote(file) + " has no grid offsets (written as a stream, or corrupt); " +
+      "this reader needs a file written by openvdb::io::File";
+    return false;
   }
   std::int32_t count = 0;
   if (!r.Value(count) || count < 0)

@@ -237,6 +237,8 @@ void ReaderErrors(const std::string& dir)
     const std::string oldVersion = damaged("version0", bytes.size(), { { 8, 0u } });
     ExpectReadError("format version 0", oldVersion.c_str(), nullptr,
       { oldVersion, "format version 0", "older than OpenVDB 3.0" });
+    const std::string noOffsets = damaged("no_offsets", bytes.size(), { { 20, 0u } });
+    ExpectReadError("no grid offsets", noOffsets.c_str(), nullptr, { noOffsets, "no grid offsets" });
     const std::string gridMetaCount =
       damaged("grid_metadata", bytes.size(), { { gridMeta, 0x10000000u } });
     ExpectReadError("grid metadata count", gridMetaCount.c_str(), nullptr,
