@@ -311,6 +311,14 @@ bool CheckLayoutOf(const std::string& file, std::string& error)
         (why.empty() ? std::string("its header is cut short") : why) + ")";
       return false;
     }
+    // Then the transform, which starts with its map type name (math::Transform::read).
+    std::string mapType;
+    if (!r.String(mapType))
+    {
+      error = what + "grid " + Quote(openvdb::io::GridDescriptor::nameAsString(name)) +
+        ": its transform's type name runs past the grid's data block)";
+      return false;
+    }
     r.Position = static_cast<std::uint64_t>(endPos);
     r.Limit = r.FileSize;
   }
