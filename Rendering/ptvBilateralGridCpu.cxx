@@ -37,7 +37,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   const float* radiance, const float* albedo, const float* guides, const float* weights,
   float* out)
 {
-  const int levels = std::min(std::max(settings.Levels, 1), kMaxGridLevels);
+  const int levels = ClampedLevels(settings);
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
 
   // Buffers: reallocated only when a size changes.
@@ -55,11 +55,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
       g = GridLevel{};
       continue;
     }
-    g.SpatialStep = std::min(std::max(settings.SpatialStep[l], 1), kMaxGridStep);
-    g.RangeStep = std::min(std::max(settings.RangeStep[l], 1), kMaxGridStep);
-    g.Width = GridCells(width, g.SpatialStep);
-    g.Height = GridCells(height, g.SpatialStep);
-    g.Depth = GridDepth(g.RangeStep);
+    g = LevelGeometry(settings, l, width, height);
     const std::size_t cells = static_cast<std::size_t>(g.Width) *
       static_cast<std::size_t>(g.Height) * static_cast<std::size_t>(g.Depth);
     this->Fit(this->Values[l], cells * 3);

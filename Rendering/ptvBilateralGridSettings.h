@@ -27,6 +27,26 @@ struct BilateralGridTimings
   double Splat = 0.0;      ///< all levels
   double Slice = 0.0;      ///< slice, blend and re-modulate
 };
+
+/// The settings' number of levels, clamped to 1..kMaxGridLevels.
+inline int ClampedLevels(const BilateralGridSettings& s)
+{
+  return s.Levels < 1 ? 1 : (s.Levels > kMaxGridLevels ? kMaxGridLevels : s.Levels);
+}
+
+/// Level @a l of a @a width x @a height frame: steps clamped to 1..kMaxGridStep and the grid
+/// size; Values and Weights are left null for the driver to point at its storage.
+inline GridLevel LevelGeometry(const BilateralGridSettings& s, int l, int width, int height)
+{
+  auto clampStep = [](int v) { return v < 1 ? 1 : (v > kMaxGridStep ? kMaxGridStep : v); };
+  GridLevel g{};
+  g.SpatialStep = clampStep(s.SpatialStep[l]);
+  g.RangeStep = clampStep(s.RangeStep[l]);
+  g.Width = GridCells(width, g.SpatialStep);
+  g.Height = GridCells(height, g.SpatialStep);
+  g.Depth = GridDepth(g.RangeStep);
+  return g;
+}
 }
 
 #endif

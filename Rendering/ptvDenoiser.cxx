@@ -207,25 +207,15 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
   const float* albedo = demodulate ? passes[PassAlbedo] : nullptr;
   const float* weights = this->Levels > 1 ? this->Weights.data() : nullptr;
-  this->GridOnCuda = false;
-  if (settings.UseCuda)
+  std::string cudaError;
+  this->Grid.Apply(grid, settings.UseCuda, width, height, passes[PassRadiance], albedo,
+    this->Guides.data(), weights, out, cudaError);
+  if (settings.UseCuda && !this->Grid.GetLastOnCuda() && cudaError != this->LastWarned)
   {
-    std::string cudaError;
-    this->GridOnCuda = this->CudaGrid.Apply(grid, width, height, passes[PassRadiance], albedo,
-      this->Guides.data(), weights, out, cudaError);
-    if (!this->GridOnCuda && cudaError != this->LastWarned)
-    {
-      this->Warning = "bilateral grid on CUDA failed (" + cudaError + "); using the CPU";
-      this->LastWarned = cudaError;
-    }
+    this->Warning = "bilateral grid on CUDA failed (" + cudaError + "); using the CPU";
+    this->LastWarned = cudaError;
   }
-  if (!this->GridOnCuda)
-  {
-    this->Grid.Apply(
-      grid, width, height, passes[PassRadiance], albedo, this->Guides.data(), weights, out);
-  }
-  const BilateralGridTimings& t =
-    this->GridOnCuda ? this->CudaGrid.GetLastTimings() : this->Grid.GetLastTimings();
+  const BilateralGridTimings& t = this->Grid.GetLastTimings();
   this->Timings.Splat = t.Demodulate + t.Splat;
   this->Timings.Slice = t.Slice;
   return true;

@@ -2,7 +2,7 @@
  * @file ptvDenoiser.h
  * @brief Private: one denoised frame from the named passes -- features (ptvFeatures) ->
  *        GuideNet in ONNX Runtime (ptvGuideNetSession) or, without a usable model, a fixed
- *        guide -> bilateral grid splat/slice/blend (ptvBilateralGridCpu).
+ *        guide -> bilateral grid splat/slice/blend (ptvBilateralGridRunner: CPU or CUDA).
  *
  * The fixed guide (no network) is 255 * clip(0.35 lum(albedo) + 0.35 depth + 0.3 mean(normal
  * feature)) on three levels with equal blend weights: it follows clean geometric features only,
@@ -11,8 +11,7 @@
 #ifndef ptvDenoiser_h
 #define ptvDenoiser_h
 
-#include "ptvBilateralGridCpu.h"
-#include "ptvCudaBilateralGrid.h"
+#include "ptvBilateralGridRunner.h"
 #include "ptvGuideNetSession.h"
 
 #include <string>
@@ -61,7 +60,7 @@ public:
   const std::vector<float>& GetWeights() const { return this->Weights; }
   const DenoiserTimings& GetTimings() const { return this->Timings; }
   /// Whether the last Run's grid ran on the CUDA device.
-  bool GetGridOnCuda() const { return this->GridOnCuda; }
+  bool GetGridOnCuda() const { return this->Grid.GetLastOnCuda(); }
 
 private:
   bool EnsureModel(const DenoiserSettings& settings);
@@ -70,9 +69,7 @@ private:
   std::string RequestedModel; // the path of the last load attempt
   std::string ModelProblem;   // why the model is not usable ("" = loaded)
   int SessionThreads = -1;
-  BilateralGridCpu Grid;
-  CudaBilateralGrid CudaGrid;
-  bool GridOnCuda = false;
+  BilateralGridRunner Grid;
   std::vector<float> Features, NetOutput, Guides, Weights;
   int Levels = 0;
   bool NetworkActive = false;

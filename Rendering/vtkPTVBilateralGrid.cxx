@@ -1,7 +1,6 @@
 #include "vtkPTVBilateralGrid.h"
 
-#include "ptvBilateralGridCpu.h"
-#include "ptvCudaBilateralGrid.h"
+#include "ptvBilateralGridRunner.h"
 
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
@@ -16,10 +15,8 @@
 struct vtkPTVBilateralGrid::vtkInternals
 {
   ptv::BilateralGridSettings Settings;
-  ptv::BilateralGridCpu Cpu;
-  ptv::CudaBilateralGrid Cuda;
+  ptv::BilateralGridRunner Grid;
   ptv::BilateralGridTimings Timings;
-  bool LastOnCuda = false;
 };
 
 vtkStandardNewMacro(vtkPTVBilateralGrid);
@@ -280,24 +277,15 @@ bool vtkPTVBilateralGrid::Apply(vtkImageData* radiance, vtkImageData* albedo,
   const float* albedoData = albedoArray ? albedoArray->GetPointer(0) : nullptr;
   const float* weightsData = weightsArray ? weightsArray->GetPointer(0) : nullptr;
   vtkInternals& in = *this->Internals;
-  in.LastOnCuda = false;
-  if (this->UseCuda)
+  std::string error;
+  in.Grid.Apply(in.Settings, this->UseCuda, width, height, radianceArray->GetPointer(0),
+    albedoData, guidesArray->GetPointer(0), weightsData, result->GetPointer(0), error);
+  if (this->UseCuda && !in.Grid.GetLastOnCuda())
   {
-    std::string error;
-    in.LastOnCuda = in.Cuda.Apply(in.Settings, width, height, radianceArray->GetPointer(0),
-      albedoData, guidesArray->GetPointer(0), weightsData, result->GetPointer(0), error);
-    if (!in.LastOnCuda)
-    {
-      vtkErrorMacro("Apply: UseCuda is on but the CUDA grid cannot run (" << error
-                                                                        << "); using the CPU");
-    }
+    vtkErrorMacro("Apply: UseCuda is on but the CUDA grid cannot run (" << error
+                                                                      << "); using the CPU");
   }
-  if (!in.LastOnCuda)
-  {
-    in.Cpu.Apply(in.Settings, width, height, radianceArray->GetPointer(0), albedoData,
-      guidesArray->GetPointer(0), weightsData, result->GetPointer(0));
-  }
-  in.Timings = in.LastOnCuda ? in.Cuda.GetLastTimings() : in.Cpu.GetLastTimings();
+  in.Timings = in.Grid.GetLastTimings();
   result->Modified();
   output->Modified();
   return true;
@@ -306,7 +294,7 @@ bool vtkPTVBilateralGrid::Apply(vtkImageData* radiance, vtkImageData* albedo,
 //------------------------------------------------------------------------------
 bool vtkPTVBilateralGrid::GetLastApplyOnCuda() const
 {
-  return this->Internals->LastOnCuda;
+  return this->Internals->Grid.GetLastOnCuda();
 }
 
 //------------------------------------------------------------------------------
@@ -323,7 +311,8 @@ void vtkPTVBilateralGrid::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Clamp: " << this->Clamp << "\n";
   os << indent << "Demodulate: " << (this->Demodulate ? "On" : "Off") << "\n";
   os << indent << "UseCuda: " << (this->UseCuda ? "On" : "Off")
-     << " (last Apply on " << (this->Internals->LastOnCuda ? "CUDA" : "the CPU") << ")\n";
+     << " (last Apply on " << (this->Internals->Grid.GetLastOnCuda() ? "CUDA" : "the CPU")
+     << ")\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "LastDemodulateTime: " << this->Internals->Timings.Demodulate << " ms\n";
   os << indent << "LastSplatTime: " << this->Internals->Timings.Splat << " ms\n";

@@ -175,9 +175,7 @@ bool CudaBilateralGrid::Apply(const BilateralGridSettings& settings, int width, 
   Internals& in = *this->Impl;
   auto ok = [&error](cudaError_t e, const char* what) { return CudaOk(e, what, error); };
   this->Timings = BilateralGridTimings{};
-  const int levels = settings.Levels < 1 ? 1
-    : settings.Levels > kMaxGridLevels   ? kMaxGridLevels
-                                         : settings.Levels;
+  const int levels = ClampedLevels(settings);
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   const std::size_t rgb = 3 * pixels * sizeof(float);
 
@@ -237,15 +235,7 @@ bool CudaBilateralGrid::Apply(const BilateralGridSettings& settings, int width, 
   for (int l = 0; l < levels; ++l)
   {
     GridLevel& g = args.Levels[l];
-    g.SpatialStep = settings.SpatialStep[l] < 1 ? 1
-      : settings.SpatialStep[l] > kMaxGridStep  ? kMaxGridStep
-                                                : settings.SpatialStep[l];
-    g.RangeStep = settings.RangeStep[l] < 1 ? 1
-      : settings.RangeStep[l] > kMaxGridStep ? kMaxGridStep
-                                             : settings.RangeStep[l];
-    g.Width = GridCells(width, g.SpatialStep);
-    g.Height = GridCells(height, g.SpatialStep);
-    g.Depth = GridDepth(g.RangeStep);
+    g = LevelGeometry(settings, l, width, height);
     const std::size_t cells = static_cast<std::size_t>(g.Width) * g.Height * g.Depth;
     if (!ok(in.Values[l].Fit(3 * cells * sizeof(float)), "grid") ||
       !ok(in.CellWeights[l].Fit(cells * sizeof(float)), "grid"))

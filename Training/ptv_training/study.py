@@ -20,10 +20,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
-import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -181,11 +179,10 @@ def time_cpp(models: Sequence[Path], data: Optional[Path], repeats: int
 
 
 def atomic_write(path: Path, text: str) -> None:
+    from .train import _write_text  # temporary file + rename
+
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
+    _write_text(path, text)
 
 
 def table(results: List[Dict[str, Any]], reference: Optional[Dict[str, Any]] = None) -> str:
