@@ -1,5 +1,7 @@
-// The only translation unit of the project that includes OpenVDB headers (see ptvOpenVDBGrid.h).
+// With ptvOpenVDBLayout.cxx, the only translation units that include OpenVDB headers
+// (see ptvOpenVDBGrid.h).
 #include "ptvOpenVDBGrid.h"
+#include "ptvOpenVDBLayout.h"
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/openvdb.h>
@@ -44,8 +46,6 @@ std::string Where(const std::string& file, const std::string& gridName)
   return "grid " + Quote(gridName) + " of file " + Quote(file);
 }
 
-bool CheckLayout(const std::string& file, std::string& error);
-
 //------------------------------------------------------------------------------
 // Check that the file can be opened for reading before handing it to OpenVDB, whose own message
 // for a missing file does not say why.
@@ -75,254 +75,7 @@ bool CheckReadable(const std::string& file, std::string& error)
     return false;
   }
   std::fclose(probe);
-  return CheckLayout(file, error);
-}
-
-//------------------------------------------------------------------------------
-// Reads little-endian values of a file within [position, limit), never past the file's end.
-class BoundedReader
-{
-public:
-  BoundedReader(std::ifstream& in, std::uint64_t fileSize)
-    : In(in)
-    , Limit(fileSize)
-    , FileSize(fileSize)
-  {
-  }
-  std::uint64_t Position = 0;
-  std::uint64_t Limit;
-  const std::uint64_t FileSize;
-
-  bool Bytes(void* out, std::uint64_t n)
-  {
-    if (n > this->Limit || this->Position > this->Limit - n)
-    {
-      return false;
-    }
-    this->In.seekg(static_cast<std::streamoff>(this->Position));
-    if (out && n)
-    {
-      this->In.read(static_cast<char*>(out), static_cast<std::streamsize>(n));
-      if (!this->In)
-      {
-        return false;
-      }
-    }
-    this->Position += n;
-    return true;
-  }
-  template <typename T>
-  bool Value(T& v)
-  {
-    return this->Bytes(&v, sizeof(T));
-  }
-  // A string as OpenVDB writes it (uint32 length, then the characters); only short strings
-  // (names, type names) are returned, longer ones are skipped.
-  bool String(std::string& text)
-  {
-    std::uint32_t n = 0;
-    if (!this->Value(n))
-    {
-      return false;
-    }
-    if (n > 4096)
-    {
-      text.clear();
-      return this->Bytes(nullptr, n);
-    }
-    text.assign(n, '\0');
-    return this->Bytes(n ? &text[0] : nullptr, n);
-  }
-
-private:
-  std::ifstream& In;
-};
-
-//------------------------------------------------------------------------------
-// A MetaMap as OpenVDB's MetaMap::readMeta reads it: uint32 count, then per entry the name, the
-// type name and Metadata::read's uint32 size + value. TypedMetadata<T> reads sizeof(T) whatever
-// the size says, so a fixed-size type (int32, vec3i, ...) must declare exactly that size.
-bool CheckMetaMap(BoundedReader& r, std::string& why)
-{
-  std::uint32_t count = 0;
-  if (!r.Value(count))
-  {
-    why = "the metadata count lies beyond the end of the file";
-    return false;
-  }
-  // Each entry takes at least 12 bytes (three uint32 sizes).
-  if (count > (r.Limit - r.Position) / 12)
-  {
-    why = "the metadata declares " + std::to_string(count) + " entries, more than fit";
-    return false;
-  }
-  for (std::uint32_t i = 0; i < count; ++i)
-  {
-    std::string name, type;
-    std::uint32_t size = 0;
-    if (!r.String(name) || !r.String(type) || !r.Value(size))
-    {
-      why = "metadata entry " + std::to_string(i) + " runs past its section";
-      return false;
-    }
-    // Fixed-size value types (others, e.g. string or __delayedload, read the declared size).
-    static const char* const fixedSize[] = { "bool", "int32", "int64", "float", "double",
-      "vec2i", "vec2s", "vec2d", "vec3i", "vec3s", "vec3d", "vec4i", "vec4s", "vec4d", "mat4s",
-      "mat4d" };
-    if (std::find(std::begin(fixedSize), std::end(fixedSize), type) != std::end(fixedSize) &&
-      openvdb::Metadata::isRegisteredType(type))
-    {
-      const openvdb::Metadata::Ptr meta = openvdb::Metadata::createMetadata(type);
-      if (meta && meta->size() != size)
-      {
-        why = "metadata '" + name + "' of type " + type + " declares " + std::to_string(size) +
-          " bytes instead of " + std::to_string(meta->size());
-        return false;
-      }
-    }
-    if (!r.Bytes(nullptr, size))
-    {
-      why = "metadata '" + name + "' declares " + std::to_string(size) +
-        " bytes, more than its section holds";
-      return false;
-    }
-  }
-  return true;
-}
-
-//------------------------------------------------------------------------------
-// Check the layout of a VDB file before OpenVDB reads it: OpenVDB trusts the sizes and offsets
-// it reads (a corrupt string length or metadata size made it allocate gigabytes; a truncated file
-// fails only half-way through a grid). Walks the header (format >= 222, OpenVDB 3.0 and later;
-// older formats are refused),
-// the file metadata and each grid descriptor, and checks that every declared size fits, that each
-// grid's [grid, block, end) offsets are ordered and inside the file, and that the grid's own
-// metadata fits before its data block. What lies inside a grid's topology and data blocks (their
-// compressed sizes included) is not checked here; see docs/reliability.md.
-bool CheckLayoutOf(const std::string& file, std::string& error);
-bool CheckLayout(const std::string& file, std::string& error)
-{
-  try
-  {
-    InitializeOpenVDB(); // for Metadata::isRegisteredType
-    return CheckLayoutOf(file, error);
-  }
-  catch (const std::exception& e)
-  {
-    error = "cannot read OpenVDB file " + Quote(file) + ": " + e.what();
-  }
-  return false;
-}
-
-bool CheckLayoutOf(const std::string& file, std::string& error)
-{
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec)
-  {
-    error = "cannot read the size of " + Quote(file) + ": " + ec.message();
-    return false;
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in)
-  {
-    error = "cannot open file " + Quote(file);
-    return false;
-  }
-  const std::string what = "file " + Quote(file) + " is not a valid OpenVDB file (truncated or " +
-    "corrupt: ";
-  BoundedReader r(in, static_cast<std::uint64_t>(size));
-  std::int64_t magic = 0;
-  std::uint32_t version = 0, major = 0, minor = 0;
-  if (!r.Value(magic) || magic != openvdb::OPENVDB_MAGIC)
-  {
-    error = what + "no VDB magic number)";
-    return false;
-  }
-  if (!r.Value(version) || !r.Value(major) || !r.Value(minor))
-  {
-    error = what + "the header is cut short)";
-    return false;
-  }
-  if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
-  {
-    // Older layouts are not walked; rather than handing them to OpenVDB unchecked (a zeroed
-    // version field let a 2.5 GB string through), they are refused.
-    error = "file " + Quote(file) + " has OpenVDB format version " + std::to_string(version) +
-      ", older than OpenVDB 3.0's 222, which this reader does not support (or it is corrupt); " +
-      "re-save it with a current OpenVDB";
-    return false;
-  }
-  char hasOffsets = 0;
-  char uuid[36];
-  if (!r.Value(hasOffsets) || !r.Bytes(uuid, sizeof(uuid)))
-  {
-    error = what + "the header is cut short)";
-    return false;
-  }
-  std::string why;
-  if (!CheckMetaMap(r, why))
-  {
-    error = what + "file metadata: " + why + ")";
-    return false;
-  }
-  if (!hasOffsets)
-  {
-    // Written by openvdb::io::Stream: the grids follow one another without offsets, so nothing
-    // bounds what OpenVDB would read (fuzz_openvdb_reader: a 2 GB grid name). Refused.
-    error = "file " + Quote(file) + " has no grid offsets (written as a stream, or corrupt); " +
-      "this reader needs a file written by openvdb::io::File";
-    return false;
-  }
-  std::int32_t count = 0;
-  if (!r.Value(count) || count < 0)
-  {
-    error = what + "no valid grid count)";
-    return false;
-  }
-  for (std::int32_t g = 0; g < count; ++g)
-  {
-    std::string name, type, parent;
-    std::int64_t gridPos = 0, blockPos = 0, endPos = 0;
-    if (!r.String(name) || !r.String(type) || !r.String(parent) || !r.Value(gridPos) ||
-      !r.Value(blockPos) || !r.Value(endPos))
-    {
-      error = what + "grid descriptor " + std::to_string(g) + " is cut short)";
-      return false;
-    }
-    const std::int64_t here = static_cast<std::int64_t>(r.Position);
-    const std::int64_t fileSize = static_cast<std::int64_t>(size);
-    if (gridPos < here || blockPos < gridPos || endPos < blockPos || endPos > fileSize)
-    {
-      std::ostringstream msg;
-      msg << what << "grid " << Quote(openvdb::io::GridDescriptor::nameAsString(name)) << " declares the offsets "
-          << gridPos << " / " << blockPos << " / " << endPos << " but the file has " << fileSize
-          << " bytes)";
-      error = msg.str();
-      return false;
-    }
-    // The grid's compression flags and metadata lie between gridPos and blockPos.
-    r.Position = static_cast<std::uint64_t>(gridPos);
-    r.Limit = static_cast<std::uint64_t>(blockPos);
-    std::uint32_t compression = 0;
-    if (!r.Value(compression) || !CheckMetaMap(r, why))
-    {
-      error = what + "grid " + Quote(openvdb::io::GridDescriptor::nameAsString(name)) + ": " +
-        (why.empty() ? std::string("its header is cut short") : why) + ")";
-      return false;
-    }
-    // Then the transform, which starts with its map type name (math::Transform::read).
-    std::string mapType;
-    if (!r.String(mapType))
-    {
-      error = what + "grid " + Quote(openvdb::io::GridDescriptor::nameAsString(name)) +
-        ": its transform's type name runs past the grid's data block)";
-      return false;
-    }
-    r.Position = static_cast<std::uint64_t>(endPos);
-    r.Limit = r.FileSize;
-  }
-  return true;
+  return CheckOpenVDBLayout(file, error);
 }
 
 //------------------------------------------------------------------------------
@@ -960,6 +713,26 @@ bool WriteTestTransformedGrid(const std::string& file, const std::string& gridNa
     for (int i = 0; i < 3; ++i)
     {
       acc.setValue(openvdb::Coord(i, 1, 2), 1.0f + float(i));
+    }
+    openvdb::GridPtrVec vdbGrids;
+    vdbGrids.push_back(grid);
+    return WriteGridsAtomically(file, vdbGrids, error);
+  });
+}
+
+//------------------------------------------------------------------------------
+bool WriteTestHalfFloatGrid(
+  const std::string& file, const std::string& gridName, std::string& error)
+{
+  return Guard("cannot write " + Quote(file), error, [&]() {
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setName(gridName);
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    grid->setSaveFloatAsHalf(true);
+    auto acc = grid->getAccessor();
+    for (int i = 0; i < 4; ++i)
+    {
+      acc.setValue(openvdb::Coord(i, 0, 0), 0.5f + float(i));
     }
     openvdb::GridPtrVec vdbGrids;
     vdbGrids.push_back(grid);

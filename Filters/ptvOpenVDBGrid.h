@@ -2,9 +2,9 @@
  * @file ptvOpenVDBGrid.h
  * @brief Plain-C++ bridge between dense VTK-ordered volumes and OpenVDB files (private).
  *
- * This header is the whole interface of ptvOpenVDBGrid.cxx, the only translation unit of the
- * project that includes OpenVDB headers (they are slow to compile and must not leak into the
- * public, wrapped headers). vtkPTVOpenVDBReader and vtkPTVOpenVDBWriter use it, and so do the
+ * This header is the whole interface of ptvOpenVDBGrid.cxx, which with ptvOpenVDBLayout.cxx
+ * (the file check run before every read) is the only code of the project that includes OpenVDB
+ * headers (they are slow to compile and must not leak into the public, wrapped headers). vtkPTVOpenVDBReader and vtkPTVOpenVDBWriter use it, and so do the
  * white-box C++ tests (hence the exported symbols).
  *
  * Conventions shared by all functions:
@@ -149,6 +149,13 @@ VTKPTVFILTERS_EXPORT bool WriteTestVectorGrid(const std::string& file,
  */
 VTKPTVFILTERS_EXPORT bool WriteTestTransformedGrid(const std::string& file,
   const std::string& gridName, const std::string& transform, std::string& error);
+
+/**
+ * For tests only: write @a file with a float grid named @a gridName saved as half floats (its
+ * type is stored with OpenVDB's "_HalfFloat" suffix): voxels (i, 0, 0) = 0.5 + i, i = 0..3.
+ */
+VTKPTVFILTERS_EXPORT bool WriteTestHalfFloatGrid(
+  const std::string& file, const std::string& gridName, std::string& error);
 
 } // namespace ptv
 

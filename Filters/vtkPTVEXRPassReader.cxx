@@ -1,6 +1,7 @@
 #include "vtkPTVEXRPassReader.h"
 
 #include "ptvEXRChannels.h"
+#include "ptvEXRLayout.h"
 
 #include "vtkDataObject.h"
 #include "vtkFloatArray.h"
@@ -114,6 +115,12 @@ int vtkPTVEXRPassReader::RequestInformation(
     vtkErrorMacro("Cannot read " << Quote(file) << ": not an OpenEXR file.");
     return 0;
   }
+  std::string corrupt;
+  if (!ptv::CheckEXRLayout(file, corrupt))
+  {
+    vtkErrorMacro("Cannot read " << Quote(file) << ": " << corrupt << ".");
+    return 0;
+  }
   int width = 0;
   int height = 0;
   try
@@ -161,6 +168,13 @@ int vtkPTVEXRPassReader::RequestData(
     return 0;
   }
   const std::string file = this->FileName;
+  std::string corrupt;
+  if (!ptv::CheckEXRLayout(file, corrupt))
+  {
+    // The file may have changed since RequestInformation checked it.
+    vtkErrorMacro("Cannot read " << Quote(file) << ": " << corrupt << ".");
+    return 0;
+  }
   try
   {
     Imf::InputFile in(file.c_str());

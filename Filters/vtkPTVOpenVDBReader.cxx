@@ -80,6 +80,7 @@ void vtkPTVOpenVDBReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "GridName: "
      << (this->GridName && *this->GridName ? this->GridName : "(first scalar grid)") << "\n";
+  os << indent << "MaximumNumberOfVoxels: " << this->MaximumNumberOfVoxels << "\n";
   os << indent << "ActiveGridName: "
      << (this->Internals->HasActiveGrid ? this->Internals->ActiveGrid.c_str() : "(none)") << "\n";
   os << indent << "NumberOfGrids: " << this->Internals->Grids.size() << "\n";
@@ -287,6 +288,18 @@ int vtkPTVOpenVDBReader::RequestData(
   {
     volume.Dims[c] = extent[2 * c + 1] - extent[2 * c] + 1;
     volume.IndexMin[c] = whole.IndexMin[c] + extent[2 * c];
+  }
+
+  const double voxels = double(volume.Dims[0]) * volume.Dims[1] * volume.Dims[2];
+  if (voxels > double(this->MaximumNumberOfVoxels))
+  {
+    vtkErrorMacro("Grid '" << internals.ActiveGrid << "' of '" << this->FileName << "' spans "
+                           << volume.Dims[0] << " x " << volume.Dims[1] << " x " << volume.Dims[2]
+                           << " = " << voxels << " voxels (the dense box of its active voxels), "
+                           << "more than MaximumNumberOfVoxels (" << this->MaximumNumberOfVoxels
+                           << "); request a smaller update extent or raise the limit.");
+    this->SetErrorCode(vtkErrorCode::OutOfDiskSpaceError);
+    return 0;
   }
 
   vtkSmartPointer<vtkDataArray> values;

@@ -53,6 +53,20 @@ public:
   vtkGetStringMacro(GridName);
   ///@}
 
+  ///@{
+  /**
+   * Largest number of voxels one read may produce: the requested extent, by default the dense
+   * bounding box of the grid's active voxels (4 bytes per voxel for float grids, 8 for double).
+   * A sparse grid whose few active voxels lie far apart spans a huge box; a read of more voxels
+   * than this is refused with an error giving the box, instead of allocating it. Request a
+   * smaller update extent, or raise the limit, to read such a grid.
+   * Default: 2^31 - 1 = 2147483647 voxels (8 GiB as float; the largest default a ParaView
+   * IdTypeVectorProperty can declare).
+   */
+  vtkSetClampMacro(MaximumNumberOfVoxels, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(MaximumNumberOfVoxels, vtkIdType);
+  ///@}
+
   /**
    * Name of the grid that the last successful UpdateInformation() selected (GridName, or the
    * first scalar grid when GridName is empty); nullptr when there is none.
@@ -101,6 +115,7 @@ protected:
 
   char* FileName = nullptr;
   char* GridName = nullptr;
+  vtkIdType MaximumNumberOfVoxels = 2147483647;
 
 private:
   vtkPTVOpenVDBReader(const vtkPTVOpenVDBReader&) = delete;

@@ -243,6 +243,56 @@ void ReaderErrors(const std::string& dir)
       damaged("grid_metadata", bytes.size(), { { gridMeta, 0x10000000u } });
     ExpectReadError("grid metadata count", gridMetaCount.c_str(), nullptr,
       { gridMetaCount, "truncated or corrupt", "'density'" });
+
+    // Counts inside values that OpenVDB parses itself (fuzz_openvdb_reader): the leaf count of
+    // the grid's delayed-load metadata (a 7.4 GB allocation) and the root node's tile count
+    // (4 billion reads past the end of the file). The writer's file holds "file_delayed_load",
+    // then uint32 13 + "__delayedload", the uint32 value size and the uint32 leaf count; and
+    // after the transform the topology: int32 1 (buffers), float 0 (background), uint32 0 tiles,
+    // uint32 1 child.
+    const std::string delayed = "file_delayed_load__delayedload";
+    std::vector<char> key(delayed.begin(), delayed.begin() + 17);
+    const char typeTag[] = { 13, 0, 0, 0 };
+    key.insert(key.end(), typeTag, typeTag + 4);
+    key.insert(key.end(), delayed.begin() + 17, delayed.end());
+    const auto at = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
+    Check(at != bytes.end(), "the reference file must hold delayed-load metadata");
+    const std::size_t leafCount = static_cast<std::size_t>(at - bytes.begin()) + key.size() + 4;
+    const std::string leaves = damaged("delayed_load", bytes.size(), { { leafCount, 0x7FFFFFFFu } });
+    ExpectReadError("delayed-load leaf count", leaves.c_str(), nullptr,
+      { leaves, "truncated or corrupt", "2147483647 leaves" });
+    const std::string mapName = "UniformScaleTranslateMap";
+    const auto map = std::search(bytes.begin(), bytes.end(), mapName.begin(), mapName.end());
+    const char rootHead[] = { 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0 };
+    const auto root = std::search(map, bytes.end(), rootHead, rootHead + sizeof(rootHead));
+    Check(map != bytes.end() && root != bytes.end(), "the reference file must hold the root");
+    const std::size_t tileCount = static_cast<std::size_t>(root - bytes.begin()) + 8;
+    const std::string tiles = damaged("root_tiles", bytes.size(), { { tileCount, 0xFFFFFFF0u } });
+    ExpectReadError("root tile count", tiles.c_str(), nullptr,
+      { tiles, "truncated or corrupt", "4294967280 tiles" });
+    const std::string children = damaged("root_children", bytes.size(), { { tileCount + 4, 4096u } });
+    ExpectReadError("root child count", children.c_str(), nullptr,
+      { children, "truncated or corrupt", "4096 child nodes" });
+  }
+
+  // A float grid saved as half floats (type "Tree_float_5_4_3_HalfFloat") passes the layout
+  // check and reads exactly (0.5 + i is a half).
+  {
+    const std::string half = dir + "/ptv_errors_half.vdb";
+    std::string error;
+    Check(ptv::WriteTestHalfFloatGrid(half, "density", error), "WriteTestHalfFloatGrid: " + error);
+    vtkNew<vtkPTVOpenVDBReader> reader;
+    Observed observed;
+    observed.Attach(reader);
+    reader->SetFileName(half.c_str());
+    reader->Update();
+    observed.ExpectNone("half-float grid");
+    vtkDataArray* values = reader->GetOutput()->GetPointData()->GetScalars();
+    Check(values && values->GetNumberOfTuples() == 4, "half-float grid: 4 x 1 x 1 voxels");
+    for (int i = 0; values && i < 4; ++i)
+    {
+      Check(values->GetComponent(i, 0) == 0.5 + i, "half-float grid: voxel values");
+    }
   }
 
   // A compressed block inside the grid's topology declaring ~140 TB (a one-byte mutation found by
@@ -307,6 +357,29 @@ void ReaderErrors(const std::string& dir)
     Check(writer->Write() == 1, "writing an all-background volume must succeed");
   }
   ExpectReadError("empty grid", empty.c_str(), nullptr, { "'nothing'", "no active voxels" });
+
+  // MaximumNumberOfVoxels: a read of a larger dense box is refused before anything is allocated
+  // (fuzz_openvdb_reader: two far-apart voxels made a 13 GB box); a sub-extent within the limit
+  // still reads.
+  {
+    vtkNew<vtkPTVOpenVDBReader> limited;
+    Observed observed;
+    observed.Attach(limited);
+    limited->SetFileName(good.c_str());
+    limited->SetMaximumNumberOfVoxels(1000);
+    limited->Update();
+    observed.Expect("voxel limit",
+      { "32 x 32 x 32 = 32768 voxels", "MaximumNumberOfVoxels (1000)", "'density'" });
+    Check(limited->GetOutput()->GetNumberOfPoints() == 0, "voxel limit: no output");
+    vtkNew<vtkPTVOpenVDBReader> piece;
+    observed.Attach(piece);
+    piece->SetFileName(good.c_str());
+    piece->SetMaximumNumberOfVoxels(1000);
+    const int extent[6] = { 0, 9, 0, 9, 0, 9 };
+    piece->UpdateExtent(extent);
+    observed.ExpectNone("voxel limit: a 10 x 10 x 10 sub-extent");
+    Check(piece->GetOutput()->GetNumberOfPoints() == 1000, "voxel limit: sub-extent read");
+  }
 
   // The same reader recovers: error first, then a good read, then an error again (no stale data).
   vtkNew<vtkPTVOpenVDBReader> reader;

@@ -37,6 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   vtkPTVOpenVDBReader::CanReadFile(file.c_str());
   vtkNew<vtkPTVOpenVDBReader> reader;
   reader->SetFileName(file.c_str());
+  // 2^24 voxels (64 MB as float), under the run's 1 GB malloc limit: a larger dense box must be
+  // refused by the reader, not allocated.
+  reader->SetMaximumNumberOfVoxels(vtkIdType(1) << 24);
   reader->Update();
   vtkImageData* out = reader->GetOutput();
   const vtkIdType points = out->GetNumberOfPoints();

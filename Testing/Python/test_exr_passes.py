@@ -14,8 +14,9 @@ Needs a display for the render (ctest runs under Xvfb) and the built package on 
 from __future__ import annotations
 
 import os
+import struct
 from pathlib import Path
-from typing import Dict, List
+from typing import Dict, List, Tuple
 
 import numpy as np
 import pytest
@@ -321,3 +322,63 @@ def test_reader_failures(tmp_path: Path) -> None:
     truncated.write_bytes(data[: len(data) // 2])
     out, messages = read(truncated)
     assert messages and "truncated.exr" in messages[0]
+
+
+def header_attributes(data: bytes) -> Dict[str, Tuple[int, str, int]]:
+    """Name -> (offset of the int32 size, type, size) of a single-part EXR header's attributes."""
+    found: Dict[str, Tuple[int, str, int]] = {}
+    pos = 8  # magic and version
+    while data[pos] != 0:
+        name_end = data.index(b"\0", pos)
+        type_end = data.index(b"\0", name_end + 1)
+        size = struct.unpack_from("<i", data, type_end + 1)[0]
+        found[data[pos:name_end].decode()] = (type_end + 1, data[name_end + 1:type_end].decode(),
+                                              size)
+        pos = type_end + 5 + size
+    return found
+
+
+def test_reader_checks_the_header_layout(tmp_path: Path) -> None:
+    """Sizes in the header that OpenEXR would trust are checked against the file first
+    (fuzz_exr_pass_reader: a string attribute declaring 1.7 GB was allocated and zero-filled)."""
+    good = tmp_path / "good.exr"
+    image = vtkImageData()
+    image.SetDimensions(8, 6, 1)
+    a = vtk_numpy.numpy_to_vtk(np.arange(8 * 6 * 3, dtype=np.float32).reshape(-1, 3), deep=1)
+    a.SetName("Radiance")
+    image.GetPointData().AddArray(a)
+    assert write(image, good)[0] == 1
+    data = good.read_bytes()
+    attrs = header_attributes(data)
+    assert attrs["dataWindow"][1:] == ("box2i", 16) and attrs["channels"][1] == "chlist"
+    assert attrs["ptv.passes"][1] == "string"
+    out, messages = read(good)
+    assert messages == [] and out.GetNumberOfPoints() == 48
+
+    def damaged(name: str, offset: int, fmt: str, value: int, size: int = len(data)) -> Path:
+        copy = bytearray(data[:size])
+        struct.pack_into(fmt, copy, offset, value)
+        path = tmp_path / f"{name}.exr"
+        path.write_bytes(bytes(copy))
+        return path
+
+    window = attrs["dataWindow"][0] + 4  # xMin, yMin, xMax, yMax follow the size
+    cases = [
+        (damaged("string_size", attrs["ptv.passes"][0], "<i", 0x7FFFFFF0),
+         "attribute 'ptv.passes' (string) declares 2147483632 bytes"),
+        (damaged("negative_size", attrs["ptv.passes"][0], "<i", -5), "declares -5 bytes"),
+        (damaged("box_size", attrs["dataWindow"][0], "<i", 20),
+         "declares 20 bytes for a box2i (16 bytes)"),
+        (damaged("tall_window", window + 12, "<i", 1 << 30), "the offset tables need"),
+        (damaged("pixel_type", attrs["channels"][0] + 4 + 2, "<i", 7), "pixel type 7"),
+        (damaged("version", 4, "<I", 3), "unsupported OpenEXR version 3"),
+        (damaged("header_cut", 0, "<i", 20000630, size=attrs["channels"][0] + 8),
+         "truncated or corrupt"),
+    ]
+    for path, expected in cases:
+        out, messages = read(path)
+        assert messages and path.name in messages[0] and expected in messages[0], messages
+        assert out.GetNumberOfPoints() == 0
+    # The reader recovers on the next good file.
+    out, messages = read(good)
+    assert messages == [] and out.GetNumberOfPoints() == 48
