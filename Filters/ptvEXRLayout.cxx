@@ -52,14 +52,16 @@ struct Part
   bool HasChunkCount = false;
   std::int32_t ChunkCount = 0;
   std::string Type; // multi-part "type": scanlineimage, tiledimage, deepscanline, deeptile
+  int Channels = 0;
 };
 
 // chlist: per channel a name (NUL-terminated, up to 255 characters), int32 pixel type,
 // uint8 pLinear, 3 reserved bytes, int32 x and y sampling; a NUL ends the list.
-bool CheckChannelList(BoundedReader& r, std::string& why)
+bool CheckChannelList(BoundedReader& r, int& channels, std::string& why)
 {
   for (int channel = 0;; ++channel)
   {
+    channels = channel;
     std::string name;
     if (!r.TerminatedString(name, 255))
     {
@@ -87,7 +89,8 @@ bool CheckChannelList(BoundedReader& r, std::string& why)
 }
 
 // The value of one attribute, inside [r.Position, r.Position + size) (r.Limit is set to its end).
-bool CheckValue(BoundedReader& r, const std::string& type, std::int32_t size, std::string& why)
+bool CheckValue(
+  BoundedReader& r, const std::string& type, std::int32_t size, int& channels, std::string& why)
 {
   const auto fixed = FixedSizes().find(type);
   if (fixed != FixedSizes().end())
@@ -102,7 +105,7 @@ bool CheckValue(BoundedReader& r, const std::string& type, std::int32_t size, st
   }
   if (type == "chlist")
   {
-    return CheckChannelList(r, why);
+    return CheckChannelList(r, channels, why);
   }
   if (type == "preview")
   {
@@ -201,7 +204,8 @@ bool CheckHeader(BoundedReader& r, std::uint64_t maxName, Part& part, bool& empt
     }
     const std::uint64_t start = r.Position;
     r.Limit = start + static_cast<std::uint64_t>(size);
-    const bool ok = CheckValue(r, type, size, why) && r.Position == r.Limit;
+    int channels = 0;
+    const bool ok = CheckValue(r, type, size, channels, why) && r.Position == r.Limit;
     r.Limit = r.FileSize;
     if (!ok)
     {
@@ -210,6 +214,10 @@ bool CheckHeader(BoundedReader& r, std::uint64_t maxName, Part& part, bool& empt
       return false;
     }
     Note(r, start, name, type, part);
+    if (name == "channels" && type == "chlist")
+    {
+      part.Channels = channels;
+    }
   }
 }
 
@@ -263,7 +271,7 @@ bool ChunkCount(const Part& part, bool multiPart, bool tiled, std::uint64_t& chu
 } // namespace
 
 //------------------------------------------------------------------------------
-bool CheckEXRLayout(const std::string& file, std::string& error)
+bool CheckEXRLayout(const std::string& file, std::string& error, EXRLayoutSummary* summary)
 {
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(file, ec);
@@ -328,6 +336,12 @@ bool CheckEXRLayout(const std::string& file, std::string& error)
     {
       error = corrupt + "part " + std::to_string(p) + ": " + why + ")";
       return false;
+    }
+    if (p == 0 && summary && parts[0].HasWindow)
+    {
+      summary->Width = std::int64_t(parts[0].Window[2]) - parts[0].Window[0] + 1;
+      summary->Height = std::int64_t(parts[0].Window[3]) - parts[0].Window[1] + 1;
+      summary->Channels = parts[0].Channels;
     }
     tableBytes += 8 * chunks;
     if (tableBytes > r.Left())

@@ -22,9 +22,18 @@
 namespace ptv
 {
 
-/// True if @a file passes the check; otherwise false with @a error saying what is wrong (the
-/// caller names the file).
-VTKPTVFILTERS_EXPORT bool CheckEXRLayout(const std::string& file, std::string& error);
+/// What the walk learnt of the first part: its data window's size and number of channels.
+struct EXRLayoutSummary
+{
+  long long Width = 0;
+  long long Height = 0;
+  int Channels = 0;
+};
+
+/// True if @a file passes the check (and @a summary, when given, describes its first part);
+/// otherwise false with @a error saying what is wrong (the caller names the file).
+VTKPTVFILTERS_EXPORT bool CheckEXRLayout(
+  const std::string& file, std::string& error, EXRLayoutSummary* summary = nullptr);
 
 } // namespace ptv
 

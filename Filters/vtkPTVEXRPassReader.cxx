@@ -68,6 +68,7 @@ void vtkPTVEXRPassReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "MaximumNumberOfValues: " << this->MaximumNumberOfValues << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -85,6 +86,28 @@ int vtkPTVEXRPassReader::CanReadFile(const char* fileName)
   {
     return 0;
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkPTVEXRPassReader::CheckFile(const std::string& file)
+{
+  std::string corrupt;
+  ptv::EXRLayoutSummary size;
+  if (!ptv::CheckEXRLayout(file, corrupt, &size))
+  {
+    vtkErrorMacro("Cannot read " << Quote(file) << ": " << corrupt << ".");
+    return false;
+  }
+  const double values = double(size.Width) * double(size.Height) * size.Channels;
+  if (values > double(this->MaximumNumberOfValues))
+  {
+    vtkErrorMacro("Cannot read " << Quote(file) << ": its " << size.Width << " x " << size.Height
+                                 << " pixels x " << size.Channels
+                                 << " channels exceed MaximumNumberOfValues ("
+                                 << this->MaximumNumberOfValues << ").");
+    return false;
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------
@@ -115,10 +138,8 @@ int vtkPTVEXRPassReader::RequestInformation(
     vtkErrorMacro("Cannot read " << Quote(file) << ": not an OpenEXR file.");
     return 0;
   }
-  std::string corrupt;
-  if (!ptv::CheckEXRLayout(file, corrupt))
+  if (!this->CheckFile(file))
   {
-    vtkErrorMacro("Cannot read " << Quote(file) << ": " << corrupt << ".");
     return 0;
   }
   int width = 0;
@@ -168,11 +189,8 @@ int vtkPTVEXRPassReader::RequestData(
     return 0;
   }
   const std::string file = this->FileName;
-  std::string corrupt;
-  if (!ptv::CheckEXRLayout(file, corrupt))
+  if (!this->CheckFile(file)) // the file may have changed since RequestInformation
   {
-    // The file may have changed since RequestInformation checked it.
-    vtkErrorMacro("Cannot read " << Quote(file) << ": " << corrupt << ".");
     return 0;
   }
   try

@@ -26,6 +26,8 @@
 #include "vtkImageAlgorithm.h"
 #include "vtkPTVFiltersModule.h" // for export macro
 
+#include <string> // for std::string
+
 class VTKPTVFILTERS_EXPORT vtkPTVEXRPassReader : public vtkImageAlgorithm
 {
 public:
@@ -39,6 +41,17 @@ public:
    */
   vtkSetFilePathMacro(FileName);
   vtkGetFilePathMacro(FileName);
+  ///@}
+
+  ///@{
+  /**
+   * Largest number of values (pixels x channels) one read may produce, all read as 4-byte
+   * floats. A file whose data window and channels exceed it is refused with an error giving
+   * them, before anything is allocated (a corrupt or hostile header can declare an image of
+   * billions of pixels in a few bytes). Default: 2^31 - 1 = 2147483647 values (8 GiB).
+   */
+  vtkSetClampMacro(MaximumNumberOfValues, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(MaximumNumberOfValues, vtkIdType);
   ///@}
 
   /// 1 if @a fileName starts with the OpenEXR magic number, else 0.
@@ -55,6 +68,10 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  vtkIdType MaximumNumberOfValues = 2147483647;
+
+  /// The layout check of ptvEXRLayout.h and the size limit; false after reporting an error.
+  bool CheckFile(const std::string& file);
 
 private:
   vtkPTVEXRPassReader(const vtkPTVEXRPassReader&) = delete;

@@ -295,7 +295,7 @@ int vtkPTVOpenVDBReader::RequestData(
   {
     vtkErrorMacro("Grid '" << internals.ActiveGrid << "' of '" << this->FileName << "' spans "
                            << volume.Dims[0] << " x " << volume.Dims[1] << " x " << volume.Dims[2]
-                           << " = " << voxels << " voxels (the dense box of its active voxels), "
+                           << " voxels (the dense box of its active voxels), "
                            << "more than MaximumNumberOfVoxels (" << this->MaximumNumberOfVoxels
                            << "); request a smaller update extent or raise the limit.");
     this->SetErrorCode(vtkErrorCode::OutOfDiskSpaceError);

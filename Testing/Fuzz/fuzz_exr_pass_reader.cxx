@@ -38,6 +38,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   vtkPTVEXRPassReader::CanReadFile(file.c_str());
   vtkNew<vtkPTVEXRPassReader> reader;
   reader->SetFileName(file.c_str());
+  // 2^24 values (64 MB of floats), under the run's 1 GB malloc limit: a larger image must be
+  // refused by the reader, not allocated.
+  reader->SetMaximumNumberOfValues(vtkIdType(1) << 24);
   reader->Update();
   vtkImageData* out = reader->GetOutput();
   const vtkIdType points = out->GetNumberOfPoints();

@@ -372,6 +372,8 @@ def test_reader_checks_the_header_layout(tmp_path: Path) -> None:
         (damaged("tall_window", window + 12, "<i", 1 << 30), "the offset tables need"),
         (damaged("pixel_type", attrs["channels"][0] + 4 + 2, "<i", 7), "pixel type 7"),
         (damaged("version", 4, "<I", 3), "unsupported OpenEXR version 3"),
+        (damaged("wide_window", window + 8, "<i", 1 << 30),
+         "1073741825 x 6 pixels x 3 channels exceed MaximumNumberOfValues (2147483647)"),
         (damaged("header_cut", 0, "<i", 20000630, size=attrs["channels"][0] + 8),
          "truncated or corrupt"),
     ]
@@ -379,6 +381,13 @@ def test_reader_checks_the_header_layout(tmp_path: Path) -> None:
         out, messages = read(path)
         assert messages and path.name in messages[0] and expected in messages[0], messages
         assert out.GetNumberOfPoints() == 0
-    # The reader recovers on the next good file.
+    # The reader recovers on the next good file; a lower limit refuses it.
     out, messages = read(good)
     assert messages == [] and out.GetNumberOfPoints() == 48
+    reader = ptv_filters.vtkPTVEXRPassReader()
+    reader.SetMaximumNumberOfValues(100)
+    errors = Errors(reader)
+    reader.SetFileName(str(good))
+    reader.Update()
+    assert errors.messages and "8 x 6 pixels x 3 channels exceed" in errors.messages[0]
+    assert reader.GetOutput().GetNumberOfPoints() == 0
