@@ -54,6 +54,7 @@ REPO_ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO_ROOT / "Python"))
 
 from pathtracedvolume import datasets as ds  # noqa: E402
+from pathtracedvolume.atomic import atomic_path  # noqa: E402
 
 LOG = logging.getLogger("fetch_datasets")
 DEFAULT_CACHE = REPO_ROOT / ".cache"
@@ -422,20 +423,9 @@ def install_vti(name: str, array: np.ndarray, entry: Mapping[str, Any],
     volume = entry["volume"]
     target = ds.vti_path(name, cache)
     target.parent.mkdir(parents=True, exist_ok=True)
-    handle, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".vti.part",
-                                        dir=target.parent)
-    os.close(handle)
-    tmp = Path(tmp_name)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600
-    try:
+    with atomic_path(target, suffix=".vti.part") as tmp:
         write_vti(array, volume["spacing_xyz"], volume["origin_xyz"], tmp)
         ds.verify_volume(name, ds.read_vti(tmp), manifest=manifest)
-        os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return target
 
 

@@ -38,6 +38,7 @@ REPO_ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO_ROOT / "Python"))
 
 from pathtracedvolume import datasets as ds  # noqa: E402
+from pathtracedvolume.atomic import write_text  # noqa: E402
 
 OUTPUT_DIR = REPO_ROOT / "Data" / "TransferFunctions"
 CREATOR = "PathTracedVolume scripts/make_transfer_functions.py"
@@ -291,11 +292,8 @@ def main(argv: list[str] | None = None) -> int:
         presets = [two_band_preset(spec["title"], value_range, spec["bands"],
                                    spec["evidence"]),
                    smooth_preset(spec["title"], value_range, spec)]
-        args.output.mkdir(parents=True, exist_ok=True)
         path = args.output / f"{name}.json"
-        tmp = path.with_name(f".{path.name}.tmp")
-        tmp.write_text(_dump(presets), encoding="utf-8")
-        tmp.replace(path)  # atomically: a reader never sees half a preset file
+        write_text(path, _dump(presets))  # atomically: a reader never sees half a preset file
         print(f"wrote {path}")
     return 0
 

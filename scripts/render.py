@@ -16,6 +16,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
 
+from pathtracedvolume.atomic import atomic_path  # noqa: E402
 from pathtracedvolume.datasets import dataset_path  # noqa: E402
 from pathtracedvolume.presets import apply_preset, find_preset  # noqa: E402
 from tqdm import tqdm  # noqa: E402
@@ -125,16 +126,13 @@ def render(args: argparse.Namespace) -> float:
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)
     grab.Update()
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.output.with_suffix(".tmp.png")
-    writer = vtkPNGWriter()
-    writer.SetFileName(str(tmp))
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    if writer.GetErrorCode() != 0 or not tmp.is_file():  # vtkImageWriter::Write returns nothing
-        tmp.unlink(missing_ok=True)
-        raise OSError(f"cannot write {tmp} (VTK error code {writer.GetErrorCode()})")
-    tmp.replace(args.output)
+    with atomic_path(args.output, suffix=".tmp.png") as tmp:
+        writer = vtkPNGWriter()
+        writer.SetFileName(str(tmp))
+        writer.SetInputConnection(grab.GetOutputPort())
+        writer.Write()
+        if writer.GetErrorCode() != 0 or tmp.stat().st_size == 0:  # Write returns nothing
+            raise OSError(f"cannot write {tmp} (VTK error code {writer.GetErrorCode()})")
     args.denoiser_status = (mapper.GetDenoiserStatus()
                             if args.mapper == "pathtraced" and not args.no_denoise else "")
     return seconds

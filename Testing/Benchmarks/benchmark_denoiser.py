@@ -23,6 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402  (appends <repo>/Python after PYTHONPATH)
 from ptvbench import ROOT, run_oidn, run_ours  # noqa: E402
 
+from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 
 
@@ -57,10 +58,8 @@ def render(dataset: str, size: int, ref_spp: int, cache: Path) -> dict[str, np.n
     scene.render(seed=1000, frames=ref_spp, on_frame=on_frame)
     bar.close()
     out["Reference"] = scene.grab("Radiance")
-    cache.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_suffix(".tmp.npz")
-    np.savez(tmp, **out)
-    tmp.replace(target)
+    with atomic_path(target, suffix=".tmp.npz") as tmp:
+        np.savez(tmp, **out)
     return out
 
 
@@ -102,10 +101,7 @@ def main() -> int:
                   f"{ours['psnr'] - oidn['psnr']:+.2f} dB; reference check "
                   f"(ref/2 vs ref) {ours['reference_half_vs_full_psnr']:.1f} dB")
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        tmp = args.json.with_suffix(".tmp")
-        tmp.write_text(json.dumps(rows, indent=2))
-        tmp.replace(args.json)
+        write_text(args.json, json.dumps(rows, indent=2))
     return 0
 
 

@@ -24,6 +24,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402  (appends <repo>/Python after PYTHONPATH)
 
+from pathtracedvolume.atomic import write_text  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 
 
@@ -129,10 +130,7 @@ def main() -> int:
               f"{r['trace_1thread_ms']:.0f} | {r['trace_2threads_ms']:.0f} | "
               f"{r['scaling_2_over_1']:.2f} |")
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        tmp = args.json.with_suffix(".tmp")
-        tmp.write_text(json.dumps(rows, indent=2))
-        tmp.replace(args.json)
+        write_text(args.json, json.dumps(rows, indent=2))
     return 0
 
 

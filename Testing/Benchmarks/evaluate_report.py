@@ -45,6 +45,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402
+from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
 
 from tqdm import tqdm  # noqa: E402
 
@@ -115,7 +116,7 @@ def write_csv(path: Path, rows: Sequence[Mapping[str, Any]]) -> None:
     keys: List[str] = []
     for r in rows:
         keys += [k for k in r if k not in keys]
-    with open(path, "w", newline="") as f:
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
         w.writeheader()
         for r in rows:
@@ -135,7 +136,7 @@ def write_json(path: Path, data: Any) -> None:
         if isinstance(x, np.bool_):
             return bool(x)
         return x
-    path.write_text(json.dumps(clean(data), indent=1) + "\n")
+    write_text(path, json.dumps(clean(data), indent=1) + "\n")
 
 
 def median(values: Iterable[float]) -> float:
@@ -384,10 +385,8 @@ class Cache:
                 pass
         self.misses += 1
         data = compute()
-        self.root.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.stem + f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **data)
-        tmp.replace(path)
+        with atomic_path(path, suffix=".tmp.npz") as tmp:
+            np.savez(tmp, **data)
         return data
 
 
@@ -425,7 +424,8 @@ class Evaluation:
             write_json(self.out / f"{name}.json", rows)
             self.files.append(f"{name}.json")
         if fig is not None:
-            fig.savefig(self.out / f"{name}.png", dpi=80)
+            with atomic_path(self.out / f"{name}.png", suffix=".tmp.png") as tmp:
+                fig.savefig(tmp, dpi=80)
             import matplotlib.pyplot as plt
             plt.close(fig)
             self.files.append(f"{name}.png")
@@ -1176,7 +1176,8 @@ class Evaluation:
             ax.set_title(label, fontsize=7)
             ax.axis("off")
         (self.out / "gallery").mkdir(exist_ok=True)
-        fig.savefig(self.out / "gallery" / f"{name}.png", dpi=100)
+        with atomic_path(self.out / "gallery" / f"{name}.png", suffix=".tmp.png") as tmp:
+            fig.savefig(tmp, dpi=100)
         plt.close(fig)
         self.files.append(f"gallery/{name}.png")
 
@@ -1249,7 +1250,7 @@ class Evaluation:
         tail = ["## Files", "", "Every figure's numbers: " + ", ".join(
             f"[{f}]({f})" for f in files if not f.endswith(".png")) + "; `results.json` holds "
             "everything above.", ""]
-        (self.out / "report.md").write_text("\n".join(head + body + tail) + "\n")
+        write_text(self.out / "report.md", "\n".join(head + body + tail) + "\n")
         write_json(self.out / "results.json", {"command": command, "machine": info,
                                                "args": {k: str(v) for k, v in vars(a).items()},
                                                "elapsed_s": elapsed, "load": [load0, load1],

@@ -25,6 +25,7 @@ if str(ROOT / "Training") not in sys.path:
 
 pytest.importorskip("OpenEXR")
 from ptv_training import exr_io  # noqa: E402
+from pathtracedvolume.atomic import atomic_path, write_bytes, write_text  # noqa: E402
 
 
 def _view_channels(w: int = 5, h: int = 4) -> dict:
@@ -186,3 +187,30 @@ def test_interrupted_generate_resumes(tmp_path: Path, volume_path) -> None:
     manifest = json.loads((out / "manifest.json").read_text())
     assert manifest["timing"]["rendered"] == 1 and manifest["timing"]["kept"] == 2
     assert exr_io.verify_view_file(damaged, size=(16, 16))[0]
+
+
+def test_atomic_writes_keep_the_old_file_until_the_new_one_is_complete(tmp_path: Path) -> None:
+    """pathtracedvolume.atomic, used by every Python writer of the project (views, checkpoints,
+    models, cards, benchmark results, report pages and charts, presets)."""
+    target = tmp_path / "sub" / "card.json"
+    write_text(target, "old\n")
+    assert target.read_text() == "old\n"
+    umask = os.umask(0)
+    os.umask(umask)
+    assert target.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's 0600
+
+    class Interrupted(Exception):
+        pass
+
+    with pytest.raises(Interrupted):
+        with atomic_path(target) as tmp:
+            tmp.write_text("half of the new ")
+            assert target.read_text() == "old\n"  # nothing visible before the rename
+            raise Interrupted()
+    assert target.read_text() == "old\n"
+    assert sorted(p.name for p in target.parent.iterdir()) == ["card.json"]  # no temporary left
+    write_bytes(target, b"new\n")
+    assert target.read_bytes() == b"new\n"
+    assert sorted(p.name for p in target.parent.iterdir()) == ["card.json"]
+    with pytest.raises(OSError):
+        write_text(target / "inside-a-file.json", "x")  # its parent is a file, not a folder

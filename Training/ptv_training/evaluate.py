@@ -35,6 +35,8 @@ if __package__ in (None, ""):  # run as a file
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
 
+from pathtracedvolume.atomic import write_text  # noqa: E402
+
 from . import exr_io  # noqa: E402
 from .data import chw, psnr  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
@@ -231,10 +233,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "tried": [run_summary(r) for r in args.ablation],
             "notes": dict(n.split("=", 1) for n in args.note),
         }
-        args.card.parent.mkdir(parents=True, exist_ok=True)
-        tmp = args.card.with_name(f".{args.card.name}.tmp")
-        tmp.write_text(json.dumps(card, indent=1) + "\n")
-        tmp.replace(args.card)
+        write_text(args.card, json.dumps(card, indent=1) + "\n")
         print(f"wrote {args.card}")
     return 0 if worst <= args.tolerance else 1
 

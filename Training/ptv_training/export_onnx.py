@@ -26,11 +26,11 @@ from __future__ import annotations
 import argparse
 import io
 import os
-import tempfile
 from pathlib import Path
 from typing import Dict, Mapping, Optional, Sequence, Tuple
 
 import torch
+from pathtracedvolume.atomic import write_bytes
 
 from .features import resolve_channels
 from .guidenet import GuideNet, count_parameters
@@ -147,22 +147,7 @@ def _write(model: torch.nn.Module, in_channels: int, output_name: str, props: Di
     onnx.checker.check_model(proto)
     data = proto.SerializeToString()
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return path
+    return write_bytes(path, data)
 
 
 def parse_levels(text: str) -> Tuple[Tuple[int, int], ...]:

@@ -29,11 +29,11 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import Dict, Iterable, List, Mapping, Optional, Tuple
 
 import numpy as np
+from pathtracedvolume.atomic import atomic_path
 
 #: pass name -> EXR channel names (without spp prefix), component order.
 PASS_CHANNELS: Dict[str, Tuple[str, ...]] = {
@@ -122,19 +122,9 @@ def write_exr(path: str | os.PathLike, channels: Mapping[str, np.ndarray],
         header[str(key)] = str(value)
     data = {k: np.ascontiguousarray(v, dtype=np.float32) for k, v in channels.items()}
     header[DIGEST_ATTRIBUTE] = channels_digest(data)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp.exr", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=".tmp.exr") as tmp:
         with OpenEXR.File(header, data) as f:
-            f.write(tmp)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+            f.write(str(tmp))
     return path
 
 

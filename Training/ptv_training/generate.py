@@ -32,7 +32,6 @@ import json
 import os
 import platform
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence
@@ -43,6 +42,8 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/gen
     sys.path.append(str(Path(__file__).resolve().parents[1]))
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
+
+from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
 from .scene import (BACKGROUND, Scene, anchor_groups, ensure_paths,  # noqa: E402
@@ -164,15 +165,7 @@ def reference_check(data: Dict[str, np.ndarray], noisy: np.ndarray) -> Dict[str,
 
 def _write_json(path: Path, data: Any) -> None:
     """Atomically: a temporary file in the same folder, renamed into place; none left on error."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(data, f, indent=1, sort_keys=False)
-            f.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_text(path, json.dumps(data, indent=1, sort_keys=False) + "\n")
 
 
 def remove_stale_temporaries(out: Path) -> int:

@@ -33,6 +33,8 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/stu
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
 
+from pathtracedvolume.atomic import write_text  # noqa: E402
+
 REPO_ROOT = Path(__file__).resolve().parents[2]
 TRAIN = REPO_ROOT / "Training" / "ptv_training" / "train.py"
 DEFAULT_RUNS = REPO_ROOT / ".cache" / "training" / "runs"
@@ -102,7 +104,7 @@ def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
         result = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT)
     if result.returncode != 0:
         raise RuntimeError(f"{exp.name} failed ({result.returncode}); see {log}")
-    (out / "done").write_text(" ".join(cmd) + "\n")
+    write_text(out / "done", " ".join(cmd) + "\n")
     return time.monotonic() - start
 
 
@@ -179,10 +181,7 @@ def time_cpp(models: Sequence[Path], data: Optional[Path], repeats: int
 
 
 def atomic_write(path: Path, text: str) -> None:
-    from .train import _write_text  # temporary file + rename
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    _write_text(path, text)
+    write_text(path, text)  # temporary file + rename
 
 
 def table(results: List[Dict[str, Any]], reference: Optional[Dict[str, Any]] = None) -> str:

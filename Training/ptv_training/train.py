@@ -28,9 +28,7 @@ import argparse
 import csv
 import json
 import math
-import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence
@@ -42,6 +40,8 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/tra
     sys.path.append(str(Path(__file__).resolve().parents[1]))
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
+
+from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
 
 from .bilateral_grid import denoise  # noqa: E402
 from .data import (Sample, batch, load_samples, psnr, split_views, tonemap,  # noqa: E402
@@ -78,21 +78,8 @@ def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Te
 
 
 def _atomic_save(obj: Any, path: Path) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         torch.save(obj, tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def _write_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 @torch.no_grad()
@@ -152,10 +139,8 @@ def save_guide_maps(model: GuideNet, sample: Sample, levels, clamp: float, path:
     top += [blank] * (width - len(top))
     bottom += [blank] * (width - len(bottom))
     image = np.concatenate([np.concatenate(top, 1), np.concatenate(bottom, 1)], 0)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    imsave(str(tmp), (image * 255 + 0.5).astype(np.uint8), check_contrast=False)
-    os.replace(tmp, path)
+    with atomic_path(path, suffix=".tmp.png") as tmp:
+        imsave(str(tmp), (image * 255 + 0.5).astype(np.uint8), check_contrast=False)
 
 
 def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
@@ -271,14 +256,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "val_views": [p.name for p in val_files], "spp": spps,
             "data": str(args.data), "data_format": manifest.get("format"),
             "args": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}}
-    _write_text(out / "run.json", json.dumps(info, indent=1) + "\n")
+    write_text(out / "run.json", json.dumps(info, indent=1) + "\n")
     print(f"{type(model).__name__} {model.config()}: {count_parameters(model)} parameters, "
           f"{macs_per_pixel(model)} MAC/pixel; {len(train)} training samples "
           f"({len(train_files)} views x {len(spps)} spp), {len(val)} validation samples")
 
     log_path = out / "log.csv"
     if not (args.resume and log_path.is_file()):
-        _write_text(log_path, ",".join(LOG_FIELDS) + "\n")
+        write_text(log_path, ",".join(LOG_FIELDS) + "\n")
     budget = args.minutes * 60.0
     guide_sample = next((s for s in val if s.spp == 1), val[0] if val else train[0])
 
