@@ -14,20 +14,38 @@
 #   a symbolized stack. (A suppression could not name the unmapped module.)
 # Debian's VTK is built without VTK_DEBUG_LEAKS, so vtkDebugLeaks cannot report leaked VTK
 #   objects; LeakSanitizer sees every leaked heap block instead (a leaked vtkObject included).
-# Usage: scripts/sanitize.sh [ctest args...]   e.g. scripts/sanitize.sh -R BadInput
-# Env:   PTV_ASAN_BUILD_DIR (default build-asan), PTV_BUILD_LOCK (default /tmp/ptv-build.lock)
+# --thread: a ThreadSanitizer build instead (build-tsan/), running the concurrency test
+#   (TestPTVConcurrentRender: two windows and mappers rendering in two threads) unless ctest
+#   arguments say otherwise; third-party code TSan cannot see into is suppressed in
+#   scripts/tsan.supp.
+# Usage: scripts/sanitize.sh [--thread] [ctest args...]   e.g. scripts/sanitize.sh -R BadInput
+# Env:   PTV_ASAN_BUILD_DIR (default build-asan), PTV_TSAN_BUILD_DIR (default build-tsan),
+#        PTV_BUILD_LOCK (default /tmp/ptv-build.lock)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BUILD="${PTV_ASAN_BUILD_DIR:-$ROOT/build-asan}"
 LOCK="${PTV_BUILD_LOCK:-/tmp/ptv-build.lock}"
-FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+MODE=address
+if [[ "${1:-}" == --thread ]]; then
+  MODE=thread
+  shift
+fi
+if [[ $MODE == thread ]]; then
+  BUILD="${PTV_TSAN_BUILD_DIR:-$ROOT/build-tsan}"
+  SAN="thread"
+  FLAGS="-fsanitize=thread -fno-omit-frame-pointer"
+  (($#)) || set -- -R ConcurrentRender
+else
+  BUILD="${PTV_ASAN_BUILD_DIR:-$ROOT/build-asan}"
+  SAN="address,undefined"
+  FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+fi
 start=$(date +%s)
 if [[ ! -f "$BUILD/CMakeCache.txt" ]]; then
   flock "$LOCK" cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS=$FLAGS" "-DCMAKE_C_FLAGS=$FLAGS" \
-    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" \
-    "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=address,undefined" \
-    "-DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=address,undefined" \
+    "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=$SAN" \
+    "-DCMAKE_SHARED_LINKER_FLAGS=-fsanitize=$SAN" \
+    "-DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=$SAN" \
     -DPTV_ENABLE_CUDA=OFF -DPython3_EXECUTABLE=/usr/bin/python3 \
     "-DPTV_ONNXRUNTIME_ROOT=$ROOT/.deps/onnxruntime" "-DPTV_VENV_PYTHON=$ROOT/.venv/bin/python"
 fi
@@ -37,6 +55,7 @@ cd "$BUILD"
 echo 'int dlclose(void* handle) { (void)handle; return 0; }' > ptv_nodlclose.c
 cc -shared -fPIC -O2 -o ptv_nodlclose.so ptv_nodlclose.c
 export LD_PRELOAD="$BUILD/ptv_nodlclose.so"
+export TSAN_OPTIONS="halt_on_error=0:report_signal_unsafe=0:suppressions=$ROOT/scripts/tsan.supp"
 export ASAN_OPTIONS="verify_asan_link_order=0:detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=0:check_initialization_order=1"
 # use_tls=0: gcc 12's LeakSanitizer crashes (SIGSEGV in ScanRangeForPointers) scanning a thread's
 # TLS range at exit in some tests; blocks then reachable only from TLS are suppressed by name in
@@ -48,5 +67,5 @@ xvfb-run -a -n $((100 + $$ % 800)) -s "-screen 0 1024x768x24 -noreset" \
   ctest -L cxx --output-on-failure --timeout 1800 "$@"
 rc=$?
 set -e
-echo "scripts/sanitize.sh: build $((built - start)) s, tests $(( $(date +%s) - built )) s, ctest exit code $rc"
+echo "scripts/sanitize.sh ($MODE): build $((built - start)) s, tests $(( $(date +%s) - built )) s, ctest exit code $rc"
 exit $rc
