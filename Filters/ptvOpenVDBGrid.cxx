@@ -714,9 +714,7 @@ bool WriteTestTransformedGrid(const std::string& file, const std::string& gridNa
     {
       acc.setValue(openvdb::Coord(i, 1, 2), 1.0f + float(i));
     }
-    openvdb::GridPtrVec vdbGrids;
-    vdbGrids.push_back(grid);
-    return WriteGridsAtomically(file, vdbGrids, error);
+    return WriteGridsAtomically(file, openvdb::GridPtrVec{ grid }, error);
   });
 }
 
@@ -734,9 +732,7 @@ bool WriteTestHalfFloatGrid(
     {
       acc.setValue(openvdb::Coord(i, 0, 0), 0.5f + float(i));
     }
-    openvdb::GridPtrVec vdbGrids;
-    vdbGrids.push_back(grid);
-    return WriteGridsAtomically(file, vdbGrids, error);
+    return WriteGridsAtomically(file, openvdb::GridPtrVec{ grid }, error);
   });
 }
 
