@@ -9,14 +9,15 @@
 #     fuzz_exr_io           bytes as an .exr -> ptv_training.exr_io.read_exr / verify_view_file
 # Seeds: Testing/Fuzz/corpus/<harness>/ (small, committed); the growing corpus and any crash
 # artifacts stay in build-fuzz/. A finding exits non-zero and leaves build-fuzz/artifacts/<file>.
-# The two readers run in fork mode past crashes (-fork=1 -ignore_crashes=1 -ignore_ooms=1):
-# OpenVDB allocates compressed blocks inside a grid's topology/data with a size read from the file
-# (io::bloscFromStream / zipFromStream / readData), OpenEXR an attribute's value with its declared
-# size (Imf::*Attribute<...>::readValueFrom; a string attribute is even zero-filled), before either can check it. A normal build gets the
+# The OpenVDB reader runs in fork mode past crashes (-fork=1 -ignore_crashes=1 -ignore_ooms=1):
+# inside a grid's topology/data OpenVDB allocates compressed blocks with a size read from the file
+# (io::bloscFromStream / zipFromStream / readData) before it can check it. A normal build gets the
 # memory untouched or std::bad_alloc, and the reader reports the library's error; ASan aborts
 # instead (its operator new never throws). Afterwards every new artifact is replayed and triaged:
-# an allocation-size-too-big or out-of-memory with such a library frame is counted as the known
-# limitation (docs/reliability.md); anything else is a finding and fails the script.
+# such an allocation is counted as the known limitation, OpenVDB 10.0's bloscFromStream overflow
+# as the known upstream defect (docs/reliability.md); anything else is a finding and fails the
+# script. The EXR pass reader has no known limitation left (its header is checked before OpenEXR
+# allocates anything, ptvEXRLayout.cxx): any crash or out-of-memory stops its run and fails.
 # Usage: scripts/fuzz.sh [seconds per harness, default 300] [harness...]
 # Needs: apt-get install clang-14 libclang-rt-14-dev (libFuzzer); pip install atheris (done here
 # into .deps/atheris when missing).
@@ -68,7 +69,6 @@ for h in "${HARNESSES[@]}"; do
   known_stack=""
   [[ "$h" == fuzz_openvdb_reader ]] &&
     known_stack="openvdb::v[0-9_]+::io::(bloscFromStream|zipFromStream|readData)"
-  [[ "$h" == fuzz_exr_pass_reader ]] && known_stack="Imf_3_1::.*readValueFrom"
   [[ -n "$known_stack" ]] && extra=(-fork=1 -ignore_crashes=1 -ignore_ooms=1)
   before="$(ls "$BUILD/artifacts" | grep "^$h-" || true)"
   set +e
@@ -80,7 +80,7 @@ for h in "${HARNESSES[@]}"; do
     "$BUILD/$h.log" | tail -n 40 || true
   if ((${#extra[@]})); then
     # Fork mode: triage the new artifacts (see the top).
-    known=0 unknown=0
+    known=0 unknown=0 upstream=0
     for a in $(ls "$BUILD/artifacts" | grep "^$h-" || true); do
       grep -qxF "$a" <<<"$before" && continue
       "${cmd[@]}" -rss_limit_mb=2048 -malloc_limit_mb=1024 -runs=1 "$BUILD/artifacts/$a" \
@@ -88,13 +88,22 @@ for h in "${HARNESSES[@]}"; do
       if grep -qE "allocation-size-too-big|out-of-memory" "$BUILD/triage.log" &&
         grep -qE "$known_stack" "$BUILD/triage.log"; then
         known=$((known + 1))
+      elif [[ "$h" == fuzz_openvdb_reader ]] &&
+        grep -qE "ERROR: AddressSanitizer: heap-buffer-overflow" "$BUILD/triage.log" &&
+        grep -qE "#[0-3] .* in openvdb::v[0-9_]+::io::bloscFromStream" "$BUILD/triage.log"; then
+        # OpenVDB 10.0 (Debian bookworm) reads an uncompressed block's declared size into the
+        # destination before comparing it with the destination's size (fixed upstream: the
+        # check now comes first). Counted and listed, see docs/reliability.md.
+        upstream=$((upstream + 1))
+        echo "UPSTREAM (OpenVDB bloscFromStream overflow): $BUILD/artifacts/$a"
       else
         unknown=$((unknown + 1))
         echo "FINDING: $BUILD/artifacts/$a"
         grep -E "ERROR|SUMMARY|runtime error|#[0-9] " "$BUILD/triage.log" | head -n 12
       fi
     done
-    echo "== $h: $known artifact(s) of the known library allocation, $unknown other finding(s)"
+    echo "== $h: $known artifact(s) of the known library allocation, $upstream of the known" \
+      "upstream OpenVDB overflow, $unknown other finding(s)"
     status=$((unknown > 0))
   fi
   echo "== $h: exit $status (log: $BUILD/$h.log)"
