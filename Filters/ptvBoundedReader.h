@@ -34,6 +34,9 @@ public:
   std::uint64_t Limit;
   const std::uint64_t FileSize;
 
+  /// To call after someone else moved the stream (the next read seeks).
+  void Resync() { this->Streamed = ~std::uint64_t(0); }
+
   /// Bytes left before Limit.
   std::uint64_t Left() const { return this->Position < this->Limit ? this->Limit - this->Position : 0; }
 
@@ -46,13 +49,18 @@ public:
     }
     if (out && n)
     {
-      this->In.clear();
-      this->In.seekg(static_cast<std::streamoff>(this->Position));
+      if (this->Streamed != this->Position) // a seek drops the stream's buffer: only when needed
+      {
+        this->In.clear();
+        this->In.seekg(static_cast<std::streamoff>(this->Position));
+      }
       this->In.read(static_cast<char*>(out), static_cast<std::streamsize>(n));
       if (!this->In)
       {
+        this->Streamed = ~std::uint64_t(0);
         return false;
       }
+      this->Streamed = this->Position + n;
     }
     this->Position += n;
     return true;
@@ -108,6 +116,7 @@ public:
 
 private:
   std::ifstream& In;
+  std::uint64_t Streamed = ~std::uint64_t(0); // where the stream is, if known
 };
 
 } // namespace ptv

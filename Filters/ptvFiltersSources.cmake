@@ -10,9 +10,11 @@ set(ptv_filters_private_headers
   ptvEXRChannels.h
   ptvEXRLayout.h
   ptvOpenVDBGrid.h
-  ptvOpenVDBLayout.h)
+  ptvOpenVDBLayout.h
+  ptvOpenVDBTree.h)
 set(ptv_filters_sources
   ptvEXRChannels.cxx
   ptvEXRLayout.cxx
   ptvOpenVDBGrid.cxx
-  ptvOpenVDBLayout.cxx)
+  ptvOpenVDBLayout.cxx
+  ptvOpenVDBTree.cxx)

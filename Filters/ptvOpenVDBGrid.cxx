@@ -719,20 +719,40 @@ bool WriteTestTransformedGrid(const std::string& file, const std::string& gridNa
 }
 
 //------------------------------------------------------------------------------
-bool WriteTestHalfFloatGrid(
-  const std::string& file, const std::string& gridName, std::string& error)
+bool WriteTestStorageGrid(const std::string& file, const std::string& gridName,
+  unsigned int compression, bool asHalf, std::string& error)
 {
   return Guard("cannot write " + Quote(file), error, [&]() {
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
     grid->setName(gridName);
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
-    grid->setSaveFloatAsHalf(true);
+    grid->setSaveFloatAsHalf(asHalf);
     auto acc = grid->getAccessor();
-    for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 20; ++k)
     {
-      acc.setValue(openvdb::Coord(i, 0, 0), 0.5f + float(i));
+      for (int j = 0; j < 20; ++j)
+      {
+        for (int i = 0; i < 20; ++i)
+        {
+          const openvdb::Coord ijk(i, j, k);
+          const int n = i + 3 * j + 7 * k;
+          if (n % 5 == 0)
+          {
+            acc.setValueOff(ijk, (n % 2) ? 1.0f : -1.0f); // two distinct inactive values
+          }
+          else
+          {
+            acc.setValueOn(ijk, 0.25f * float(n % 17)); // exact in half precision
+          }
+        }
+      }
     }
-    return WriteGridsAtomically(file, openvdb::GridPtrVec{ grid }, error);
+    grid->tree().addTile(1, openvdb::Coord(64, 0, 0), 2.0f, true); // an 8^3 active tile
+    openvdb::io::File vdb(file);
+    vdb.setCompression(compression);
+    vdb.write(openvdb::GridPtrVec{ grid });
+    vdb.close();
+    return true;
   });
 }
 

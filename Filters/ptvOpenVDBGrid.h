@@ -151,11 +151,15 @@ VTKPTVFILTERS_EXPORT bool WriteTestTransformedGrid(const std::string& file,
   const std::string& gridName, const std::string& transform, std::string& error);
 
 /**
- * For tests only: write @a file with a float grid named @a gridName saved as half floats (its
- * type is stored with OpenVDB's "_HalfFloat" suffix): voxels (i, 0, 0) = 0.5 + i, i = 0..3.
+ * For tests only: write @a file (directly, not atomically) with a float grid named @a gridName
+ * stored with OpenVDB's io::COMPRESS_* flags @a compression (0: raw, 1: zip, 2: active mask,
+ * 4: blosc, or'ed), as half floats if @a asHalf (type suffix "_HalfFloat"). The grid: voxels
+ * (i, j, k) in [0, 20)^3, inactive with values -1 or +1 where (i + 3j + 7k) % 5 == 0, else active
+ * with 0.25 * ((i + 3j + 7k) % 17) (exact as half floats); plus an active 8^3 tile of 2 at
+ * (64, 0, 0). Every value block layout of io::readCompressedValues occurs.
  */
-VTKPTVFILTERS_EXPORT bool WriteTestHalfFloatGrid(
-  const std::string& file, const std::string& gridName, std::string& error);
+VTKPTVFILTERS_EXPORT bool WriteTestStorageGrid(const std::string& file,
+  const std::string& gridName, unsigned int compression, bool asHalf, std::string& error);
 
 } // namespace ptv
 

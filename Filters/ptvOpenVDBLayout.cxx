@@ -3,6 +3,7 @@
 #include "ptvOpenVDBLayout.h"
 
 #include "ptvBoundedReader.h"
+#include "ptvOpenVDBTree.h"
 
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/openvdb.h>
@@ -182,53 +183,6 @@ bool CheckMetaMap(BoundedReader& r, std::string& why)
 }
 
 //------------------------------------------------------------------------------
-// The root of a grid's topology (RootNode::readTopology): after Tree::readTopology's int32 buffer
-// count come the background value and the uint32 numbers of tiles and child nodes, which OpenVDB
-// loops over without checking its stream (fuzz_openvdb_reader: 4 billion tiles, a read of minutes
-// past the end of the file; as many children, each a new node of 8 KB or more). Each tile takes
-// 12 + sizeof(value) + 1 bytes and each child at least 12 + its two node masks, all before the
-// data block at @a blockPos. The transform, between the metadata and the topology, is parsed by
-// OpenVDB itself (its size depends on the map type; only fixed-size reads).
-template <typename GridT>
-bool CheckRoot(std::ifstream& in, const openvdb::VersionId& library, std::uint32_t version,
-  std::uint64_t transformPos, std::uint64_t blockPos, std::string& why)
-{
-  using ValueT = typename GridT::ValueType;
-  using ChildT = typename GridT::TreeType::RootNodeType::ChildNodeType;
-  in.clear();
-  in.seekg(static_cast<std::streamoff>(transformPos));
-  openvdb::io::setVersion(in, library, version);
-  openvdb::math::Transform transform;
-  transform.read(in);
-  const std::streamoff topology = in ? static_cast<std::streamoff>(in.tellg()) : -1;
-  if (topology < 0 || static_cast<std::uint64_t>(topology) > blockPos)
-  {
-    why = "its transform runs past its data block";
-    return false;
-  }
-  BoundedReader r(in, blockPos);
-  r.Position = static_cast<std::uint64_t>(topology);
-  std::int32_t buffers = 0;
-  ValueT background;
-  std::uint32_t tiles = 0, children = 0;
-  if (!r.Value(buffers) || !r.Value(background) || !r.Value(tiles) || !r.Value(children))
-  {
-    why = "its topology runs past its data block";
-    return false;
-  }
-  const std::uint64_t tileBytes = 3 * sizeof(std::int32_t) + sizeof(ValueT) + 1;
-  const std::uint64_t childBytes = 3 * sizeof(std::int32_t) + 2 * (ChildT::NUM_VALUES / 8);
-  if (tiles * tileBytes + children * childBytes > r.Left())
-  {
-    why = "its root declares " + std::to_string(tiles) + " tiles and " +
-      std::to_string(children) + " child nodes, more than the " + std::to_string(r.Left()) +
-      " bytes before its data block hold";
-    return false;
-  }
-  return true;
-}
-
-//------------------------------------------------------------------------------
 // The walk itself (see ptvOpenVDBLayout.h).
 bool CheckLayoutOf(const std::string& file, std::string& error)
 {
@@ -337,28 +291,33 @@ bool CheckLayoutOf(const std::string& file, std::string& error)
         ": its transform's type name runs past the grid's data block)";
       return false;
     }
-    // Then, for the grids this reader reads, the topology's root (other grids' topology is
+    // Then, for the grids this reader reads, the topology and voxel blocks (other grids' are
     // never read: their metadata only is listed).
-    const openvdb::VersionId library(major, minor);
+    TreeBlocks tree;
     const std::string half = "_HalfFloat"; // io::GridDescriptor's "saved as half" type suffix
     if (type.size() > half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0)
     {
       type.resize(type.size() - half.size());
+      tree.SavedAsHalf = true;
     }
-    bool rootOk = true;
-    if (type == openvdb::FloatGrid::gridType())
+    tree.IsDouble = type == openvdb::DoubleGrid::gridType();
+    if (tree.IsDouble || type == openvdb::FloatGrid::gridType())
     {
-      rootOk = CheckRoot<openvdb::FloatGrid>(in, library, version, transformPos, r.Limit, why);
-    }
-    else if (type == openvdb::DoubleGrid::gridType())
-    {
-      rootOk = CheckRoot<openvdb::DoubleGrid>(in, library, version, transformPos, r.Limit, why);
-    }
-    if (!rootOk)
-    {
-      error = what + "grid " + Quote(openvdb::io::GridDescriptor::nameAsString(name)) + ": " +
-        why + ")";
-      return false;
+      tree.Compression = compression;
+      tree.FileVersion = version;
+      tree.LibraryMajor = major;
+      tree.LibraryMinor = minor;
+      tree.TransformPos = transformPos;
+      tree.BlockPos = static_cast<std::uint64_t>(blockPos);
+      tree.EndPos = static_cast<std::uint64_t>(endPos);
+      const bool treeOk = CheckTreeBlocks(in, tree, why);
+      r.Resync();
+      if (!treeOk)
+      {
+        error = what + "grid " + Quote(openvdb::io::GridDescriptor::nameAsString(name)) + ": " +
+          why + ")";
+        return false;
+      }
     }
     r.Position = static_cast<std::uint64_t>(endPos);
     r.Limit = r.FileSize;
