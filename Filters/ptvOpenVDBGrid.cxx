@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <mutex>
 #include <sstream>
 
@@ -537,16 +538,21 @@ bool ReadScalarGridInfo(
       return false;
     }
 
-    const openvdb::Coord dim = bbox.dim();
-    const long long total = static_cast<long long>(dim[0]) * dim[1] * dim[2];
-    if (dim[0] <= 0 || dim[1] <= 0 || dim[2] <= 0 || total <= 0)
-    {
-      error = Where(file, gridName) + " has an invalid active voxel bounding box";
-      return false;
-    }
+    // In 64 bits: the box comes from the file and may span the whole int32 range, where
+    // CoordBBox::dim() and a product of three extents overflow (fuzz_openvdb_reader, UBSan).
+    long long dim[3];
     for (int c = 0; c < 3; ++c)
     {
-      volume.Dims[c] = dim[c];
+      dim[c] = static_cast<long long>(bbox.max()[c]) - bbox.min()[c] + 1;
+      if (dim[c] <= 0 || dim[c] > std::numeric_limits<int>::max())
+      {
+        std::ostringstream msg;
+        msg << Where(file, gridName) << " has an active voxel bounding box that VTK cannot index: "
+            << bbox.min() << " to " << bbox.max();
+        error = msg.str();
+        return false;
+      }
+      volume.Dims[c] = static_cast<int>(dim[c]);
       volume.IndexMin[c] = bbox.min()[c];
     }
     volume.IsDouble = (info.ValueType == "double");

@@ -335,6 +335,12 @@ void ReaderErrors(const std::string& dir)
     const std::string overflow = source + "/../Data/vdb_blosc_overflow.vdb";
     ExpectReadError("blosc overflow", overflow.c_str(), nullptr,
       { overflow, "an uncompressed value block declares", "for 27 values of 4 bytes" });
+    // Bounding-box metadata spanning 335544326 x 1879039037 x 48 voxels: the product of the
+    // extents overflowed a 64-bit integer (UBSan, fuzz_openvdb_reader); now the voxel limit says
+    // so (Testing/Data/vdb_huge_bbox.vdb).
+    const std::string hugeBox = source + "/../Data/vdb_huge_bbox.vdb";
+    ExpectReadError("huge bounding box", hugeBox.c_str(), nullptr,
+      { hugeBox, "335544326 x 1879039037 x 48 voxels", "MaximumNumberOfVoxels" });
   }
 
   // Unknown grid: the message lists what the file has.
