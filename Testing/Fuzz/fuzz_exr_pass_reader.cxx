@@ -5,35 +5,17 @@
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkObject.h"
 #include "vtkPTVEXRPassReader.h"
 #include "vtkPointData.h"
+#include "ptvFuzzFile.h"
 
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include <unistd.h>
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-  static const std::string file = [] {
-    vtkObject::GlobalWarningDisplayOff(); // errors are expected; they are not findings
-    const char* dir = std::getenv("TMPDIR");
-    return std::string(dir && *dir ? dir : "/tmp") + "/ptv_fuzz_" + std::to_string(getpid()) +
-      ".exr";
-  }();
-  std::FILE* f = std::fopen(file.c_str(), "wb");
-  if (!f)
-  {
-    std::abort();
-  }
-  if (size)
-  {
-    std::fwrite(data, 1, size, f);
-  }
-  std::fclose(f);
+  const std::string file = WriteFuzzFile(data, size, ".exr");
 
   vtkPTVEXRPassReader::CanReadFile(file.c_str());
   vtkNew<vtkPTVEXRPassReader> reader;
