@@ -102,8 +102,9 @@ available = list(display.GetProperty("Representation").Available)
 check("Path Traced Volume" in available, "'Path Traced Volume' is offered: %s" % available)
 display.SetRepresentationType("Path Traced Volume")
 ColorBy(display, ("POINTS", "ImageScalars"))
-if os.path.exists(MODEL):
-    display.DenoiserModelFile = MODEL
+# The shipped model is part of the product: a missing one fails here (and below), never skips.
+check(os.path.exists(MODEL), "the shipped model %s exists" % MODEL)
+display.DenoiserModelFile = MODEL
 # The baseline uses the fixed guide so that it does not depend on the trained model.
 display.DenoiserUseNetwork = 0
 display.MaximumAccumulatedFrames = 16
@@ -335,16 +336,13 @@ for name, value in [("EmptySpaceSkipping", 0), ("NumberOfThreads", 1)]:
           "%s=%s leaves the image bit-identical" % (name, value))
     display.SetPropertyWithName(name, old)
 
-# --- 2e. the network, when the model is shipped -----------------------------------------------
-if os.path.exists(MODEL):
-    display.DenoiserUseNetwork = 1
-    render_until_converged()
-    display.UpdatePropertyInformation()
-    status = display.GetProperty("DenoiserStatus").GetData()
-    print("DenoiserStatus with the model:", status)
-    check(str(status).startswith("GuideNet"), "DenoiserModelFile + DenoiserUseNetwork use GuideNet")
-else:
-    print("skipped: no %s, the network stays off (DenoiserUseNetwork=0)" % MODEL)
+# --- 2e. the network: the shipped model must load (a missing model fails the test) --------------
+display.DenoiserUseNetwork = 1
+render_until_converged()
+display.UpdatePropertyInformation()
+status = display.GetProperty("DenoiserStatus").GetData()
+print("DenoiserStatus with the model:", status)
+check(str(status).startswith("GuideNet"), "DenoiserModelFile + DenoiserUseNetwork use GuideNet")
 
 # --- 3. a vtkRectilinearGrid (offered the representation too): one error, nothing rendered -----
 Hide(reader, view)

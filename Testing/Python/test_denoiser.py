@@ -14,8 +14,8 @@ import pytest
 ROOT = Path(os.environ.get("PTV_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 sys.path.append(str(ROOT / "Training"))
 
-torch = pytest.importorskip("torch")
-rendering = pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+import torch
+import pathtracedvolume.vtkPTVRendering as rendering
 
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction  # noqa: E402

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("pathtracedvolume.vtkPTVRendering")
-pytest.importorskip("pyoidn")
+import pathtracedvolume.vtkPTVRendering  # noqa: F401
+import pyoidn  # noqa: F401
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "Testing" / "Benchmarks" / "evaluate_report.py"

@@ -21,10 +21,10 @@ from typing import Dict, List, Tuple
 import numpy as np
 import pytest
 
-OpenEXR = pytest.importorskip("OpenEXR")
-vtk_numpy = pytest.importorskip("vtkmodules.util.numpy_support")
-ptv_filters = pytest.importorskip("pathtracedvolume.vtkPTVFilters")
-ptv_rendering = pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+import OpenEXR
+import vtkmodules.util.numpy_support as vtk_numpy
+import pathtracedvolume.vtkPTVFilters as ptv_filters
+import pathtracedvolume.vtkPTVRendering as ptv_rendering
 
 from vtkmodules.util.misc import calldata_type  # noqa: E402
 from vtkmodules.util.vtkConstants import VTK_STRING  # noqa: E402

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-vtk_numpy = pytest.importorskip("vtkmodules.util.numpy_support")
-ptv = pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+import vtkmodules.util.numpy_support as vtk_numpy
+import pathtracedvolume.vtkPTVRendering as ptv
 
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction  # noqa: E402
 from vtkmodules.vtkImagingCore import vtkRTAnalyticSource  # noqa: E402

@@ -5,7 +5,6 @@ No fetched data is needed: the value ranges come from Data/datasets.json.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import subprocess
@@ -172,8 +171,6 @@ def test_modules_import_without_vtk() -> None:
     assert result.stdout.strip() == "[]"
 
 
-@pytest.mark.skipif(importlib.util.find_spec("paraview") is None,
-                    reason="ParaView Python modules not installed")
 def test_paraview_imports_the_presets(tmp_path: Path) -> None:
     """ParaView itself imports each file and applies RGBPoints and Points."""
     code = r"""

@@ -23,7 +23,7 @@ ROOT = Path(os.environ.get("PTV_SOURCE_DIR") or Path(__file__).resolve().parents
 if str(ROOT / "Training") not in sys.path:
     sys.path.append(str(ROOT / "Training"))  # appended: the compiled package stays first
 
-pytest.importorskip("OpenEXR")
+import OpenEXR  # noqa: F401
 from ptv_training import exr_io  # noqa: E402
 from pathtracedvolume.atomic import atomic_path, write_bytes, write_text  # noqa: E402
 
@@ -129,7 +129,7 @@ def test_exr_write_onto_a_folder_or_unwritable_path(tmp_path: Path) -> None:
 
 
 def test_failed_manifest_write_leaves_no_temporary(tmp_path: Path) -> None:
-    pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+    import pathtracedvolume.vtkPTVRendering  # noqa: F401
     from ptv_training import generate
 
     target = tmp_path / "manifest.json"
@@ -148,7 +148,7 @@ def _generate_cmd(out: Path) -> list:
 
 
 def test_interrupted_generate_resumes(tmp_path: Path, volume_path) -> None:
-    pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+    import pathtracedvolume.vtkPTVRendering  # noqa: F401
     volume_path("head")
     out = tmp_path / "views"
     first = out / "head_000.exr"

@@ -22,7 +22,7 @@ ROOT = Path(os.environ.get("PTV_SOURCE_DIR") or Path(__file__).resolve().parents
 if str(ROOT / "Training") not in sys.path:
     sys.path.append(str(ROOT / "Training"))  # appended: the compiled package stays first
 
-pytest.importorskip("pathtracedvolume.vtkPTVRendering")
+import pathtracedvolume.vtkPTVRendering  # noqa: F401
 MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"
 SIZE = 128
 REFERENCE_SPP = 512

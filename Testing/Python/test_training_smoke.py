@@ -18,10 +18,10 @@ ROOT = Path(os.environ.get("PTV_SOURCE_DIR") or Path(__file__).resolve().parents
 if str(ROOT / "Training") not in sys.path:
     sys.path.append(str(ROOT / "Training"))  # appended: the compiled package stays first
 
-pytest.importorskip("pathtracedvolume.vtkPTVRendering")
-pytest.importorskip("OpenEXR")
-pytest.importorskip("onnx")
-torch = pytest.importorskip("torch")
+import pathtracedvolume.vtkPTVRendering  # noqa: F401
+import OpenEXR  # noqa: F401
+import onnx  # noqa: F401
+import torch
 
 
 def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> None:
