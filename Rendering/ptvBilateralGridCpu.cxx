@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -16,6 +20,25 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start)
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
     .count();
 }
+
+/// i0 = floor(u), Tent(u - i0), Tent(u - i0 - 1) of every pixel index along one axis.
+void AxisTables(int n, int step, int* index, float* tent0, float* tent1)
+{
+  for (int x = 0; x < n; ++x)
+  {
+    const float u = PixelToGrid(x, step);
+    const int i0 = FloorToInt(u);
+    index[x] = i0;
+    tent0[x] = Tent(u - static_cast<float>(i0));
+    tent1[x] = Tent(u - static_cast<float>(i0 + 1));
+  }
+}
+
+bool PortableFromEnvironment()
+{
+  const char* value = std::getenv("PTV_PORTABLE_KERNELS");
+  return value && std::strcmp(value, "1") == 0;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -24,10 +47,85 @@ void BilateralGridCpu::Fit(std::vector<T>& buffer, std::size_t size)
 {
   if (buffer.size() != size)
   {
-    std::vector<T>(size).swap(buffer); // exact size; also releases a larger buffer
+    std::vector<T>(size).swap(buffer); // exact size, zero-filled; also releases a larger one
     if (size > 0)
     {
       ++this->Allocations;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void BilateralGridCpu::Prepare(
+  const BilateralGridSettings& settings, int levels, int width, int height, int blocks)
+{
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  this->Fit(this->Demodulated, pixels * 4);
+  this->Fit(this->RowLuminance, static_cast<std::size_t>(height));
+  this->Fit(this->RowLit, static_cast<std::size_t>(height));
+  std::size_t scratchColumns = 0;
+  std::size_t scratchFloats = 0;
+  for (int l = 0; l < kMaxGridLevels; ++l)
+  {
+    PushGrid& g = this->Levels[l];
+    if (l >= levels)
+    {
+      this->Fit(this->Cells[l], 0);
+      g = PushGrid{};
+      continue;
+    }
+    const GridLevel geometry = LevelGeometry(settings, l, width, height);
+    const bool same = g.Cells && g.Geometry.Width == geometry.Width &&
+      g.Geometry.Height == geometry.Height && g.Geometry.Depth == geometry.Depth &&
+      g.Geometry.SpatialStep == geometry.SpatialStep &&
+      this->ColumnIndex[l].size() == static_cast<std::size_t>(width) &&
+      this->RowIndex[l].size() == static_cast<std::size_t>(height);
+    g.Geometry = geometry;
+    g.Columns = geometry.Width + 2;
+    g.Bins = geometry.Depth + 1;
+    const std::size_t cells = static_cast<std::size_t>(geometry.Height + 2) * g.Columns * g.Bins;
+    // A new geometry starts from zero cells (the padding must stay zero; see the rows header).
+    if (!same)
+    {
+      this->Cells[l].clear();
+    }
+    this->Fit(this->Cells[l], cells * 4);
+    g.Cells = this->Cells[l].data();
+    this->Fit(this->ColumnIndex[l], static_cast<std::size_t>(width));
+    this->Fit(this->ColumnTents[l], 2 * static_cast<std::size_t>(width));
+    this->Fit(this->RowIndex[l], static_cast<std::size_t>(height));
+    this->Fit(this->RowTents[l], 2 * static_cast<std::size_t>(height));
+    if (!same)
+    {
+      AxisTables(width, geometry.SpatialStep, this->ColumnIndex[l].data(),
+        this->ColumnTents[l].data(), this->ColumnTents[l].data() + width);
+      AxisTables(height, geometry.SpatialStep, this->RowIndex[l].data(),
+        this->RowTents[l].data(), this->RowTents[l].data() + height);
+    }
+    g.I0 = this->ColumnIndex[l].data();
+    g.Tx0 = this->ColumnTents[l].data();
+    g.Tx1 = g.Tx0 + width;
+    g.J0 = this->RowIndex[l].data();
+    g.Ty0 = this->RowTents[l].data();
+    g.Ty1 = g.Ty0 + height;
+    scratchColumns = std::max(scratchColumns, static_cast<std::size_t>(g.Columns));
+    scratchFloats = std::max(scratchFloats, static_cast<std::size_t>(g.Columns) * g.Bins * 4);
+  }
+  if (blocks != this->Blocks || scratchColumns != this->ScratchColumns ||
+    scratchFloats != this->ScratchFloats)
+  {
+    this->Blocks = blocks;
+    this->ScratchColumns = scratchColumns;
+    this->ScratchFloats = scratchFloats;
+    this->Scratch.clear();
+    this->Fit(this->Scratch, scratchFloats * blocks);
+    this->ScratchRanges.clear();
+    this->Fit(this->ScratchRanges, 2 * scratchColumns * blocks);
+    for (std::size_t b = 0; b < static_cast<std::size_t>(blocks); ++b)
+    {
+      int* ranges = this->ScratchRanges.data() + 2 * scratchColumns * b;
+      std::fill(ranges, ranges + scratchColumns, INT_MAX); // KMin: nothing touched
+      std::fill(ranges + scratchColumns, ranges + 2 * scratchColumns, -1);
     }
   }
 }
@@ -38,31 +136,8 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   float* out)
 {
   const int levels = ClampedLevels(settings);
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-
-  // Buffers: reallocated only when a size changes.
-  this->Fit(this->Demodulated, pixels * 3);
-  this->Fit(this->Guides, pixels * static_cast<std::size_t>(levels));
-  this->Fit(this->RowLuminance, static_cast<std::size_t>(height));
-  this->Fit(this->RowLit, static_cast<std::size_t>(height));
-  for (int l = 0; l < kMaxGridLevels; ++l)
-  {
-    GridLevel& g = this->Levels[l];
-    if (l >= levels)
-    {
-      this->Fit(this->Values[l], 0);
-      this->Fit(this->Weights[l], 0);
-      g = GridLevel{};
-      continue;
-    }
-    g = LevelGeometry(settings, l, width, height);
-    const std::size_t cells = static_cast<std::size_t>(g.Width) *
-      static_cast<std::size_t>(g.Height) * static_cast<std::size_t>(g.Depth);
-    this->Fit(this->Values[l], cells * 3);
-    this->Fit(this->Weights[l], cells);
-    g.Values = this->Values[l].data();
-    g.Weights = this->Weights[l].data();
-  }
+  const bool portable = settings.Portable || PortableFromEnvironment();
+  this->KernelTarget = GridKernelTarget(portable);
 
   int threads = settings.Threads;
   std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
@@ -74,20 +149,21 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   {
     threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
+  // The splat's blocks of grid rows: one per thread, each with its own scratch row.
+  this->Prepare(settings, levels, width, height, threads);
 
   float* demod = this->Demodulated.data();
-  float* guidePlanes = this->Guides.data();
   double* rowLuminance = this->RowLuminance.data();
   std::size_t* rowLit = this->RowLit.data();
-  GridLevel* grid = this->Levels;
-  const double clamp = settings.Clamp;
+  PushGrid* grid = this->Levels;
+  const int blocks = this->Blocks;
 
   vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
     [&]()
     {
-      // Phase 1: sanitise + demodulate, row sums of luminance, guide planes; then the clamp.
+      // Phase 1: sanitise + demodulate into (r, g, b, 1), row sums of luminance.
       auto start = std::chrono::steady_clock::now();
-      vtkSMPTools::For(0, height, 1,
+      vtkSMPTools::For(0, height, 16,
         [&](vtkIdType rowBegin, vtkIdType rowEnd)
         {
           for (vtkIdType y = rowBegin; y < rowEnd; ++y)
@@ -98,16 +174,14 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
             {
               const std::size_t p = static_cast<std::size_t>(y) * width + x;
               const Vec3 d = Demodulate(radiance + 3 * p, albedo ? albedo + 3 * p : nullptr);
-              demod[3 * p + 0] = d.x;
-              demod[3 * p + 1] = d.y;
-              demod[3 * p + 2] = d.z;
+              float* cell = demod + 4 * p;
+              cell[0] = d.x;
+              cell[1] = d.y;
+              cell[2] = d.z;
+              cell[3] = 1.f;
               const float lum = Luminance(d);
               sum += static_cast<double>(lum);
               lit += lum > 0.f ? 1 : 0;
-              for (int l = 0; l < levels; ++l)
-              {
-                guidePlanes[l * pixels + p] = guides[p * levels + l];
-              }
             }
             rowLuminance[y] = sum;
             rowLit[y] = lit;
@@ -121,77 +195,52 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
         litPixels += rowLit[y];
       }
       const double mean = litPixels > 0 ? total / static_cast<double>(litPixels) : 0.0;
-      const float limit = ptv::OutlierLimit(mean, clamp);
-      if (limit > 0.f)
-      {
-        vtkSMPTools::For(0, height, 1,
-          [&](vtkIdType rowBegin, vtkIdType rowEnd)
-          {
-            float* first = demod + 3 * static_cast<std::size_t>(rowBegin) * width;
-            float* last = demod + 3 * static_cast<std::size_t>(rowEnd) * width;
-            for (float* d = first; d != last; ++d)
-            {
-              *d = *d < limit ? *d : limit; // D >= 0 is never NaN here
-            }
-          });
-      }
+      const float limit = OutlierLimit(mean, settings.Clamp);
       this->Timings.Demodulate = MillisecondsSince(start);
 
-      // Phase 2: splat, a gather per grid column; parallel over grid rows.
+      // Phase 2: push splat, every level; block b owns a fixed range of each level's grid rows.
       start = std::chrono::steady_clock::now();
-      for (int l = 0; l < levels; ++l)
-      {
-        GridLevel& g = grid[l];
-        const float* guide = guidePlanes + l * pixels;
-        vtkSMPTools::For(0, g.Height, 1,
-          [&](vtkIdType jBegin, vtkIdType jEnd)
+      vtkSMPTools::For(0, blocks, 1,
+        [&](vtkIdType blockBegin, vtkIdType blockEnd)
+        {
+          for (vtkIdType b = blockBegin; b < blockEnd; ++b)
           {
-            for (vtkIdType j = jBegin; j < jEnd; ++j)
+            SplatScratch scratch;
+            scratch.Cells = this->Scratch.data() + this->ScratchFloats * b;
+            scratch.KMin = this->ScratchRanges.data() + 2 * this->ScratchColumns * b;
+            scratch.KMax = scratch.KMin + this->ScratchColumns;
+            for (int l = 0; l < levels; ++l)
             {
-              for (int i = 0; i < g.Width; ++i)
-              {
-                SplatCell(demod, guide, width, height, g, i, static_cast<int>(j));
-              }
+              const int rows = grid[l].Geometry.Height;
+              SplatInput in;
+              in.Demodulated4 = demod;
+              in.Guides = guides;
+              in.GuideStride = levels;
+              in.GuideOffset = l;
+              in.Width = width;
+              in.Height = height;
+              in.Limit = limit > 0.f ? limit : std::numeric_limits<float>::infinity();
+              const int jBegin = static_cast<int>(rows * b / blocks);
+              const int jEnd = static_cast<int>(rows * (b + 1) / blocks);
+              SplatGridRows(in, grid[l], scratch, jBegin, jEnd, portable);
             }
-          });
-      }
+          }
+        });
       this->Timings.Splat = MillisecondsSince(start);
 
       // Phase 3: slice every level, blend, re-modulate; parallel over image rows.
       start = std::chrono::steady_clock::now();
-      vtkSMPTools::For(0, height, 1,
+      SliceInput in;
+      in.Levels = grid;
+      in.NumberOfLevels = levels;
+      in.Guides = guides;
+      in.Weights = levels > 1 ? weights : nullptr;
+      in.Albedo = albedo;
+      in.Out = out;
+      in.Width = width;
+      vtkSMPTools::For(0, height, 8,
         [&](vtkIdType rowBegin, vtkIdType rowEnd)
-        {
-          for (vtkIdType yy = rowBegin; yy < rowEnd; ++yy)
-          {
-            const int y = static_cast<int>(yy);
-            float v[kMaxGridLevels] = { 0.f, 0.f, 0.f };
-            for (int l = 0; l < levels; ++l)
-            {
-              v[l] = PixelToGrid(y, grid[l].SpatialStep);
-            }
-            for (int x = 0; x < width; ++x)
-            {
-              const std::size_t p = static_cast<std::size_t>(y) * width + x;
-              Vec3 s[kMaxGridLevels] = { MakeVec3(0.f, 0.f, 0.f), MakeVec3(0.f, 0.f, 0.f),
-                MakeVec3(0.f, 0.f, 0.f) };
-              for (int l = 0; l < levels; ++l)
-              {
-                const GridLevel& g = grid[l];
-                s[l] = SliceLevel(g, PixelToGrid(x, g.SpatialStep), v[l],
-                  GuideToGrid(guidePlanes[l * pixels + p], g.RangeStep));
-              }
-              const float* w = weights ? weights + p * (levels - 1) : nullptr;
-              const float w1 = levels >= 2 && w ? w[0] : 0.f;
-              const float w2 = levels >= 3 && w ? w[1] : 0.f;
-              const Vec3 r = Remodulate(
-                Blend(s[0], s[1], s[2], levels, w1, w2), albedo ? albedo + 3 * p : nullptr);
-              out[3 * p + 0] = r.x;
-              out[3 * p + 1] = r.y;
-              out[3 * p + 2] = r.z;
-            }
-          }
-        });
+        { SliceRows(in, static_cast<int>(rowBegin), static_cast<int>(rowEnd), portable); });
       this->Timings.Slice = MillisecondsSince(start);
     });
 }

@@ -1,21 +1,25 @@
 /**
  * @file ptvBilateralGridCpu.h
- * @brief Private: the CPU driver of the bilateral-grid denoiser, vtkSMPTools loops over
- *        Kernels/ptvBilateralGrid.h (which defines the semantics).
+ * @brief Private: the CPU driver of the bilateral-grid denoiser: vtkSMPTools loops over the row
+ *        kernels of ptvBilateralGridRows.h (Highway, dispatched per instruction set), with the
+ *        semantics of Kernels/ptvBilateralGrid.h.
  *
- * Three phases: demodulate + outlier clamp (parallel over image rows), splat (per level,
- * parallel over grid rows j, one SplatCell per column), slice + blend + re-modulate (parallel
- * over image rows). Every cell and pixel is written by exactly one task and the mean luminance
- * is summed per row and then over rows in order, so the output is bit-identical for any number
- * of threads and any SMP backend.
+ * Three phases: demodulate (parallel over image rows: (r, g, b, 1) pixels and per-row sums of
+ * luminance for the outlier limit), splat (a push: parallel over fixed blocks of grid rows, each
+ * block owning its rows and a scratch row, all levels in one pass; the clamp is applied as pixels
+ * are read), slice + blend + re-modulate (parallel over image rows). Every cell and pixel is
+ * written by exactly one task in a fixed order and the mean luminance is summed per row and then
+ * over rows in order, so the output is bit-identical for any number of threads and SMP backend.
+ * Its cost follows the pixels: only cells that some pixel touches are cleared and normalised.
  *
  * The buffers live in the object and are reallocated only when the image size, the number of
- * levels or a level's steps change: repeated frames of one size allocate nothing.
+ * levels, a level's steps or the thread count change: repeated frames allocate nothing.
  */
 #ifndef ptvBilateralGridCpu_h
 #define ptvBilateralGridCpu_h
 
 #include "Kernels/ptvBilateralGrid.h"
+#include "ptvBilateralGridRows.h"
 #include "ptvBilateralGridSettings.h"
 #include "vtkPTVRenderingModule.h" // for export macro
 
@@ -31,8 +35,8 @@ public:
    * Denoise one W x H frame. @a radiance, @a albedo and @a out hold W * H RGB pixels (x
    * fastest), @a guides W * H * Levels interleaved values, @a weights W * H * (Levels - 1)
    * interleaved values (may be nullptr when Levels == 1). @a albedo nullptr: no demodulation.
-   * The settings must be valid (levels
-   * 1..3, steps 1..256, W, H >= 1); the caller validates. @a out must not alias an input.
+   * The settings must be valid (levels 1..3, steps 1..256, W, H >= 1); the caller validates.
+   * @a out must not alias an input.
    */
   void Apply(const BilateralGridSettings& settings, int width, int height,
     const float* radiance, const float* albedo, const float* guides, const float* weights,
@@ -44,19 +48,32 @@ public:
   /// How many times a buffer was (re)allocated since construction.
   std::size_t GetAllocationCount() const { return this->Allocations; }
 
+  /// The instruction set of the last Apply's kernels ("AVX3", "AVX2", ..., "EMU128").
+  const char* GetLastKernelTarget() const { return this->KernelTarget; }
+
 private:
   template <typename T>
   void Fit(std::vector<T>& buffer, std::size_t size);
+  void Prepare(const BilateralGridSettings& settings, int levels, int width, int height,
+    int blocks);
 
-  std::vector<float> Demodulated;            // W * H * 3, clamped
-  std::vector<float> Guides;                 // Levels * W * H, one plane per level
-  std::vector<double> RowLuminance;          // H row sums of luminance(D)
-  std::vector<std::size_t> RowLit;           // H row counts of pixels with luminance(D) > 0
-  std::vector<float> Values[kMaxGridLevels]; // per level GW * GH * GD * 3
-  std::vector<float> Weights[kMaxGridLevels];
-  GridLevel Levels[kMaxGridLevels] = {};
+  std::vector<float> Demodulated;   // W * H * 4: (r, g, b, 1), not clamped
+  std::vector<double> RowLuminance; // H row sums of luminance(D)
+  std::vector<std::size_t> RowLit;  // H row counts of pixels with luminance(D) > 0
+  std::vector<float> Cells[kMaxGridLevels]; // per level (GH + 2) * (GW + 2) * (GD + 1) * 4
+  std::vector<int> RowIndex[kMaxGridLevels];    // J0 per image row, I0 per image column
+  std::vector<int> ColumnIndex[kMaxGridLevels];
+  std::vector<float> RowTents[kMaxGridLevels];  // Ty0 then Ty1 (2 H)
+  std::vector<float> ColumnTents[kMaxGridLevels]; // Tx0 then Tx1 (2 W)
+  std::vector<float> Scratch;       // per block: the largest level's Columns * Bins * 4, zero
+  std::vector<int> ScratchRanges;   // per block: KMin, then KMax of each column
+  PushGrid Levels[kMaxGridLevels];
+  int Blocks = 0;
+  std::size_t ScratchColumns = 0;
+  std::size_t ScratchFloats = 0;
   std::size_t Allocations = 0;
   BilateralGridTimings Timings;
+  const char* KernelTarget = "";
 };
 }
 

@@ -38,6 +38,9 @@ public:
   /// Whether the last Apply ran on the CUDA device.
   bool GetLastOnCuda() const { return this->OnCuda; }
 
+  /// The CPU kernels' instruction set of the last CPU Apply ("" before one).
+  const char* GetCpuKernelTarget() const { return this->Cpu.GetLastKernelTarget(); }
+
   const BilateralGridTimings& GetLastTimings() const
   {
     return this->OnCuda ? this->Cuda.GetLastTimings() : this->Cpu.GetLastTimings();

@@ -18,6 +18,9 @@ struct BilateralGridSettings
   int RangeStep[kMaxGridLevels] = { 4, 8, 16 };   ///< sr per level, 1..256
   double Clamp = 8.0;                             ///< outlier clamp factor, 0 = off
   int Threads = 0;                                ///< <= 0: every core
+  /// CPU only: run the baseline (portable) build of the kernels instead of the best instruction
+  /// set of this CPU. Also forced by the environment variable PTV_PORTABLE_KERNELS=1.
+  bool Portable = false;
 };
 
 /// Wall-clock milliseconds of the phases of the last Apply.

@@ -1,7 +1,7 @@
 /**
  * @file ptvBilateralGrid.h
  * @brief Per-cell / per-pixel kernels of the Neural Bilateral Grid denoiser (Meng et al. 2020):
- *        demodulate, outlier clamp, splat (as a gather), slice, blend, re-modulate.
+ *        demodulate, outlier clamp, splat, slice, blend, re-modulate.
  *
  * This comment is THE definition of the semantics; vtkPTVBilateralGrid (C++, through
  * ptvBilateralGridCpu) and Training/ptv_training/bilateral_grid.py (torch, differentiable) both
@@ -27,7 +27,8 @@
  *    Pixel x maps to u = (x + 0.5) / ss - 0.5, evaluated as float(2x + 1 - ss) / float(2 ss)
  *    (PixelToGrid; likewise v for y). Guide g is sanitised to [0, 255] (NaN -> 0, +Inf -> 255)
  *    and maps to z = g / sr (GuideToGrid). Tent t(a) = max(0, 1 - |a|) (Tent).
- *    Splat (SplatCell, a gather: each cell is written by one thread, deterministic):
+ *    Splat (any summation order; SplatCell below is a gather, each cell written by one thread,
+ *    used by CUDA; the CPU pushes each pixel into its cells, ptvBilateralGridRows.h):
  *      W_ijk = sum_p t(u_p - i) t(v_p - j) t(z_p - k),   V_ijk = sum_p (same weight) D_p / W_ijk,
  *    over the pixels p with |u_p - i| < 1, |v_p - j| < 1, |z_p - k| < 1; the weight of a pixel
  *    is evaluated as (t(u_p - i) * t(v_p - j)) * t(z_p - k). A cell with W_ijk = 0 is EMPTY:
@@ -42,7 +43,8 @@
  * 5. Re-modulate (Remodulate): result = out * (A + eps) with the sanitised A (out without A). The result is
  *    finite everywhere (every slice is a convex combination of D values <= 1e32).
  *
- * Grid layout (GridLevel): cell (i, j, k) is column (j * GW + i), Weights[column * GD + k],
+ * Grid layout of SplatCell / SliceLevel (GridLevel; the CPU driver keeps its own interleaved,
+ * padded layout, ptvBilateralGridRows.h): cell (i, j, k) is column (j * GW + i), Weights[column * GD + k],
  * Values[(column * GD + k) * 3 + channel]: a column of all range bins is contiguous.
  * Images (demodulated radiance, guides) are row-major, x fastest: pixel (x, y) is y * W + x.
  */

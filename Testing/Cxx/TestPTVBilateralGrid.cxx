@@ -6,7 +6,12 @@
 //      the output is left untouched; the object works again afterwards;
 //  (d) 1x1 and 4097x3 images (with NaN/Inf/negative radiance) give finite output;
 //  (e) repeated Apply calls of one size allocate nothing: the driver's allocation counter stays
-//      put and the output's "Denoised" array (and its memory) is reused.
+//      put and the output's "Denoised" array (and its memory) is reused;
+//  (f) the portable build of the row kernels (BilateralGridSettings::Portable, HWY_SCALAR here)
+//      agrees with the dispatched one (AVX-512/AVX2/SSE4) within 1e-5 of the output range (the
+//      dispatched build contracts multiply-adds into FMAs: one rounding less per term), and a
+//      frame after a different frame equals the same frame on a fresh driver bit for bit (cells
+//      a frame does not touch keep stale values that must never reach the result).
 // The semantics themselves are checked against the torch reference and a brute-force evaluation
 // of the definitions in Testing/Python/test_bilateral_grid.py.
 #include "ptvTestCheck.h"
@@ -21,6 +26,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkTestErrorObserver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -204,6 +210,56 @@ void TestThreadsBitIdentical()
         std::to_string(levels) + " levels: " + std::to_string(threads) +
           " threads must be bit-identical to 1 thread");
     }
+  }
+}
+
+// (f) portable vs dispatched kernels; no trace of an earlier frame.
+void TestPortableKernelsAndReuse()
+{
+  auto data = [](vtkImageData* image)
+  { return vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars())->GetPointer(0); };
+  for (int levels : { 1, 3 })
+  {
+    Frame f = RandomFrame(131, 79, levels, 21);
+    Frame other = RandomFrame(131, 79, levels, 22);
+    const std::size_t n = static_cast<std::size_t>(f.Width) * f.Height;
+    ptv::BilateralGridSettings settings;
+    settings.Levels = levels;
+    settings.Threads = 2;
+    std::vector<float> dispatched(3 * n), portable(3 * n), fresh(3 * n);
+    const float* weights = levels > 1 ? data(f.Weights) : nullptr;
+    ptv::BilateralGridCpu reused;
+    reused.Apply(settings, f.Width, f.Height, data(other.Radiance), data(other.Albedo),
+      data(other.Guides), levels > 1 ? data(other.Weights) : nullptr, dispatched.data());
+    reused.Apply(settings, f.Width, f.Height, data(f.Radiance), data(f.Albedo), data(f.Guides),
+      weights, dispatched.data());
+    const std::string target = reused.GetLastKernelTarget();
+    ptv::BilateralGridCpu first;
+    first.Apply(settings, f.Width, f.Height, data(f.Radiance), data(f.Albedo), data(f.Guides),
+      weights, fresh.data());
+    Check(std::memcmp(fresh.data(), dispatched.data(), 3 * n * sizeof(float)) == 0,
+      std::to_string(levels) + " levels: a frame after another must equal it on a fresh driver");
+    settings.Portable = true;
+    ptv::BilateralGridCpu baseline;
+    baseline.Apply(settings, f.Width, f.Height, data(f.Radiance), data(f.Albedo),
+      data(f.Guides), weights, portable.data());
+    const std::string portableTarget = baseline.GetLastKernelTarget();
+    Check(portableTarget == "SCALAR" || portableTarget == "EMU128",
+      "portable kernels run the baseline target, got " + portableTarget);
+    float lo = dispatched[0], hi = dispatched[0];
+    double worst = 0.0;
+    for (std::size_t i = 0; i < 3 * n; ++i)
+    {
+      lo = std::min(lo, dispatched[i]);
+      hi = std::max(hi, dispatched[i]);
+      worst = std::max(worst, std::fabs(static_cast<double>(dispatched[i]) - portable[i]));
+    }
+    const double span = static_cast<double>(hi) - lo;
+    std::cout << levels << " levels: kernels " << target << " vs " << portableTarget
+              << ", max difference " << worst << " (range " << span << ")\n";
+    Check(span > 0 && worst <= 1e-5 * span,
+      std::to_string(levels) + " levels: portable and dispatched kernels differ by " +
+        std::to_string(worst) + " (range " + std::to_string(span) + ")");
   }
 }
 
@@ -451,6 +507,7 @@ int TestPTVBilateralGrid(int, char*[])
   TestErrors();
   TestOddSizesFinite();
   TestNoAllocationGrowth();
+  TestPortableKernelsAndReuse();
   if (failures)
   {
     std::cerr << failures << " check(s) failed\n";
