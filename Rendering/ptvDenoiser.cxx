@@ -101,18 +101,25 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   grid.Threads = settings.Threads;
   if (this->NetworkActive)
   {
+    // Features at the network's resolution (the model's guide stride), GuideNet, then its
+    // outputs upsampled into the grid's interleaved guides and weights.
     const std::vector<std::string>& channels = this->Session.GetInputChannels();
-    this->Features.resize(channels.size() * n);
-    if (!BuildFeatures(passes, width, height, channels, this->Features.data(), error))
+    const int stride = this->Session.GetGuideStride();
+    const int netWidth = ReducedSize(width, stride);
+    const int netHeight = ReducedSize(height, stride);
+    const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
+    this->Features.resize(channels.size() * netPixels);
+    if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
+          this->Features.data(), error))
     {
       return false; // a pass the model needs is missing: the caller's input is incomplete
     }
     const double t1 = NowMs();
     this->Timings.Features = t1 - t0;
     const int modelLevels = this->Session.GetNumberOfLevels();
-    this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * n);
+    this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * netPixels);
     std::string runError;
-    if (!this->Session.Run(this->Features.data(), height, width, this->NetOutput.data(),
+    if (!this->Session.Run(this->Features.data(), netHeight, netWidth, this->NetOutput.data(),
           runError))
     {
       this->NetworkActive = false;
@@ -139,33 +146,23 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     }
     else
     {
-      this->Timings.GuideNet = NowMs() - t1;
       const int levels = settings.Levels > 0 ? std::min(settings.Levels, modelLevels) : modelLevels;
-      const float scale = static_cast<float>(this->Session.GetGuideScale());
       this->Levels = levels;
       this->Guides.resize(n * levels);
       this->Weights.resize(n * std::max(levels - 1, 0));
       for (int l = 0; l < levels; ++l)
       {
-        const float* g = this->NetOutput.data() + l * n;
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          this->Guides[k * levels + l] = g[k] * scale;
-        }
         grid.SpatialStep[l] = this->Session.GetLevels()[l].first;
         grid.RangeStep[l] = this->Session.GetLevels()[l].second;
       }
       // Fewer levels than the model: the first levels-1 weights, the last level takes the rest.
-      for (int l = 0; l + 1 < levels; ++l)
-      {
-        const float* w = this->NetOutput.data() + (modelLevels + l) * n;
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          this->Weights[k * (levels - 1) + l] = w[k];
-        }
-      }
+      this->Upsampler.Run(this->NetOutput.data(), netWidth, netHeight, stride, width, height,
+        levels, modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads,
+        this->Guides.data(), this->Weights.data());
+      this->Timings.GuideNet = NowMs() - t1;
       this->Status = "GuideNet " + this->RequestedModel + " (" +
         this->Session.GetExecutionProvider() + "), " + std::to_string(levels) + " levels" +
+        (stride > 1 ? ", guides at 1/" + std::to_string(stride) + " resolution" : "") +
         (this->Session.GetDemodulate() ? "" : ", no demodulation");
     }
   }
@@ -179,8 +176,8 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     }
     this->Status = "fixed guide: " + why;
     this->Features.resize(kFixedGuideChannels.size() * n);
-    if (!BuildFeatures(
-          passes, width, height, kFixedGuideChannels, this->Features.data(), error))
+    if (!this->FeatureMaker.Build(passes, width, height, kFixedGuideChannels, 1,
+          settings.Threads, this->Features.data(), error))
     {
       return false;
     }
@@ -203,6 +200,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   }
 
   grid.Levels = this->Levels;
+  grid.Portable = settings.PortableKernels;
   // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
   const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
   const float* albedo = demodulate ? passes[PassAlbedo] : nullptr;

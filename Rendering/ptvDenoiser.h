@@ -12,7 +12,9 @@
 #define ptvDenoiser_h
 
 #include "ptvBilateralGridRunner.h"
+#include "ptvFeatures.h"
 #include "ptvGuideNetSession.h"
+#include "ptvGuideUpsample.h"
 
 #include <string>
 #include <vector>
@@ -27,6 +29,7 @@ struct DenoiserSettings
   double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
   int Threads = 0;        ///< <= 0: every core
   bool UseCuda = false;   ///< run the grid on the CUDA device (falls back to the CPU on error)
+  bool PortableKernels = false; ///< CPU grid: the baseline kernels, not this CPU's best SIMD
 };
 
 struct DenoiserTimings
@@ -54,6 +57,8 @@ public:
   std::string TakeWarning();
 
   int GetLevels() const { return this->Levels; }
+  /// The CPU grid's instruction set in the last Run ("AVX3", "AVX2", ..., "EMU128"/"SCALAR").
+  const char* GetGridKernelTarget() const { return this->Grid.GetCpuKernelTarget(); }
   /// Guides of the last Run, interleaved width * height * GetLevels(), in [0, 255].
   const std::vector<float>& GetGuides() const { return this->Guides; }
   /// Blend weights, interleaved width * height * (GetLevels() - 1).
@@ -70,6 +75,8 @@ private:
   std::string ModelProblem;   // why the model is not usable ("" = loaded)
   int SessionThreads = -1;
   BilateralGridRunner Grid;
+  FeatureBuilder FeatureMaker;
+  GuideUpsampler Upsampler;
   std::vector<float> Features, NetOutput, Guides, Weights;
   int Levels = 0;
   bool NetworkActive = false;

@@ -2,9 +2,12 @@
 
 #include "ptvPassBuffers.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <thread>
 
 namespace ptv
 {
@@ -95,6 +98,50 @@ float Clip01(float v)
 {
   return std::min(1.0f, std::max(0.0f, v));
 }
+
+/// What one channel needs besides its pass: the hit test and normalisation of depth/position.
+struct ChannelRange
+{
+  const float* MaskDepth = nullptr; ///< depth pass of the hit test (nullptr: no test)
+  float HitLimit = 0.f;             ///< hit: depth < 0.999 * far
+  float Low = 0.f;                  ///< min over hits
+  float Range = 0.f;                ///< max - min over hits
+  float Miss = 0.f;                 ///< value of a miss
+};
+
+/**
+ * out[j] for j < ceil(W / s): the mean of f over the s x s block of low-resolution pixel (i, j),
+ * pixel indices clamped to the image (s = 1: out[j] = f(i W + j)).
+ */
+template <class F>
+void PoolRow(const F& f, int i, int s, int width, int height, float* out)
+{
+  const std::size_t w = static_cast<std::size_t>(width);
+  if (s == 1)
+  {
+    const std::size_t row = static_cast<std::size_t>(i) * w;
+    for (std::size_t j = 0; j < w; ++j)
+    {
+      out[j] = f(row + j);
+    }
+    return;
+  }
+  const int reduced = ReducedSize(width, s);
+  const float area = static_cast<float>(s * s);
+  for (int j = 0; j < reduced; ++j)
+  {
+    float sum = 0.f;
+    for (int dy = 0; dy < s; ++dy)
+    {
+      const std::size_t row = static_cast<std::size_t>(std::min(s * i + dy, height - 1)) * w;
+      for (int dx = 0; dx < s; ++dx)
+      {
+        sum += f(row + static_cast<std::size_t>(std::min(s * j + dx, width - 1)));
+      }
+    }
+    out[j] = sum / area;
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -105,19 +152,32 @@ bool IsFeatureChannel(const std::string& name)
 }
 
 //------------------------------------------------------------------------------
-bool BuildFeatures(const float* const* passes, int width, int height,
-  const std::vector<std::string>& channels, float* out, std::string& error)
+struct FeatureBuilder::Plan
+{
+  Channel Source;
+  ChannelRange Range;
+};
+
+FeatureBuilder::FeatureBuilder() = default;
+FeatureBuilder::~FeatureBuilder() = default;
+
+//------------------------------------------------------------------------------
+bool FeatureBuilder::Build(const float* const* passes, int width, int height,
+  const std::vector<std::string>& channels, int stride, int threads, float* out,
+  std::string& error)
 {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  std::vector<Channel> parsed(channels.size());
+  const int s = stride < 1 ? 1 : stride;
+  this->Plans.resize(channels.size()); // kept between frames: no allocation
   for (std::size_t i = 0; i < channels.size(); ++i)
   {
-    if (!Parse(channels[i], parsed[i]))
+    this->Plans[i] = Plan{};
+    if (!Parse(channels[i], this->Plans[i].Source))
     {
       error = "unknown feature channel '" + channels[i] + "'";
       return false;
     }
-    const Channel& c = parsed[i];
+    const Channel& c = this->Plans[i].Source;
     if (!passes[c.Pass] || (c.MaskPass >= 0 && !passes[c.MaskPass]))
     {
       error = "feature channel '" + channels[i] + "' needs pass '" +
@@ -125,88 +185,146 @@ bool BuildFeatures(const float* const* passes, int width, int height,
       return false;
     }
   }
-
-  // Hit masks per depth pass: d < 0.999 * max(d) (features.py: hit_mask).
-  std::vector<unsigned char> hits[PassCount];
-  auto mask = [&](int depthPass) -> const std::vector<unsigned char>&
+  if (n == 0)
   {
-    std::vector<unsigned char>& m = hits[depthPass];
-    if (m.empty())
-    {
-      const float* d = passes[depthPass];
-      const float far = n ? *std::max_element(d, d + n) : 0.0f;
-      const float limit = 0.999f * far;
-      m.resize(n);
-      for (std::size_t k = 0; k < n; ++k)
-      {
-        m[k] = d[k] < limit ? 1 : 0;
-      }
-    }
-    return m;
-  };
-
-  const float gamma = 1.0f / 2.2f;
-  for (std::size_t ci = 0; ci < parsed.size(); ++ci)
+    return true;
+  }
+  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
+  if (backend == "Sequential" && threads != 1)
   {
-    const Channel& c = parsed[ci];
-    const int comps = GetPassInfo(c.Pass).Components;
-    const float* src = passes[c.Pass];
-    float* plane = out + ci * n;
-    auto value = [&](std::size_t k) { return src[k * comps + c.Component]; };
-    switch (c.What)
+    backend = "STDThread";
+  }
+  if (threads <= 0)
+  {
+    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  }
+  this->RowLow.resize(static_cast<std::size_t>(height));
+  this->RowHigh.resize(static_cast<std::size_t>(height));
+  this->RowFar.resize(static_cast<std::size_t>(height));
+  this->RowAny.resize(static_cast<std::size_t>(height));
+
+  // Per channel: the hit limit of its depth pass (d < 0.999 max d, features.py: hit_mask) and
+  // the min / max of its values over the hits; per-row reductions, then rows in order.
+  const int reducedW = ReducedSize(width, s);
+  const int reducedH = ReducedSize(height, s);
+  const std::size_t plane = static_cast<std::size_t>(reducedW) * reducedH;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
+    [&]()
     {
-      case Kind::Color:
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          plane[k] = Clip01(std::pow(std::max(value(k), 0.0f), gamma));
-        }
-        break;
-      case Kind::Alpha:
-      case Kind::Albedo:
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          plane[k] = Clip01(value(k));
-        }
-        break;
-      case Kind::Normal:
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          plane[k] = Clip01((value(k) + 1.0f) * 0.5f);
-        }
-        break;
-      case Kind::Depth:
-      case Kind::Position:
+      for (Plan& plan : this->Plans)
       {
-        const std::vector<unsigned char>& m = mask(c.MaskPass);
-        const float miss = c.What == Kind::Depth ? 1.0f : 0.0f;
-        float lo = 0.0f, hi = 0.0f;
-        bool any = false;
-        for (std::size_t k = 0; k < n; ++k)
+        const Channel& c = plan.Source;
+        if (c.What != Kind::Depth && c.What != Kind::Position)
         {
-          if (m[k])
+          continue;
+        }
+        ChannelRange& r = plan.Range;
+        r.Miss = c.What == Kind::Depth ? 1.0f : 0.0f;
+        r.MaskDepth = passes[c.MaskPass];
+        const float* depth = r.MaskDepth;
+        vtkSMPTools::For(0, height, 32,
+          [&](vtkIdType y0, vtkIdType y1)
           {
-            const float v = value(k);
-            lo = any ? std::min(lo, v) : v;
-            hi = any ? std::max(hi, v) : v;
+            for (vtkIdType y = y0; y < y1; ++y)
+            {
+              const float* d = depth + static_cast<std::size_t>(y) * width;
+              this->RowFar[y] = *std::max_element(d, d + width);
+            }
+          });
+        const float far = *std::max_element(this->RowFar.begin(), this->RowFar.end());
+        r.HitLimit = 0.999f * far;
+        const int comps = GetPassInfo(c.Pass).Components;
+        const float* src = passes[c.Pass];
+        vtkSMPTools::For(0, height, 32,
+          [&](vtkIdType y0, vtkIdType y1)
+          {
+            for (vtkIdType y = y0; y < y1; ++y)
+            {
+              float lo = 0.f, hi = 0.f;
+              bool any = false;
+              for (std::size_t k = static_cast<std::size_t>(y) * width,
+                               end = k + static_cast<std::size_t>(width);
+                   k < end; ++k)
+              {
+                if (depth[k] < r.HitLimit)
+                {
+                  const float v = src[k * comps + c.Component];
+                  lo = any ? std::min(lo, v) : v;
+                  hi = any ? std::max(hi, v) : v;
+                  any = true;
+                }
+              }
+              this->RowLow[y] = lo;
+              this->RowHigh[y] = hi;
+              this->RowAny[y] = any ? 1 : 0;
+            }
+          });
+        bool any = false;
+        float lo = 0.f, hi = 0.f;
+        for (int y = 0; y < height; ++y)
+        {
+          if (this->RowAny[y])
+          {
+            lo = any ? std::min(lo, this->RowLow[y]) : this->RowLow[y];
+            hi = any ? std::max(hi, this->RowHigh[y]) : this->RowHigh[y];
             any = true;
           }
         }
-        const float range = hi - lo;
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          if (!m[k])
-          {
-            plane[k] = miss;
-          }
-          else
-          {
-            plane[k] = range > 0.0f ? Clip01((value(k) - lo) / range) : 0.0f;
-          }
-        }
-        break;
+        r.Low = lo;
+        r.Range = hi - lo;
       }
-    }
-  }
+
+      // The features, pooled to the network's resolution; parallel over its rows.
+      const float gamma = 1.0f / 2.2f;
+      vtkSMPTools::For(0, reducedH, 4,
+        [&](vtkIdType i0, vtkIdType i1)
+        {
+          for (vtkIdType i = i0; i < i1; ++i)
+          {
+            for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
+            {
+              const Channel& c = this->Plans[ci].Source;
+              const int comps = GetPassInfo(c.Pass).Components;
+              const float* src = passes[c.Pass] + c.Component;
+              float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
+              const int ii = static_cast<int>(i);
+              switch (c.What)
+              {
+                case Kind::Color:
+                  PoolRow([&](std::size_t k)
+                    { return Clip01(std::pow(std::max(src[k * comps], 0.0f), gamma)); },
+                    ii, s, width, height, row);
+                  break;
+                case Kind::Alpha:
+                case Kind::Albedo:
+                  PoolRow([&](std::size_t k) { return Clip01(src[k * comps]); }, ii, s, width,
+                    height, row);
+                  break;
+                case Kind::Normal:
+                  PoolRow([&](std::size_t k) { return Clip01((src[k * comps] + 1.0f) * 0.5f); },
+                    ii, s, width, height, row);
+                  break;
+                case Kind::Depth:
+                case Kind::Position:
+                {
+                  const ChannelRange& r = this->Plans[ci].Range;
+                  PoolRow(
+                    [&](std::size_t k)
+                    {
+                      if (!(r.MaskDepth[k] < r.HitLimit))
+                      {
+                        return r.Miss;
+                      }
+                      return r.Range > 0.0f ? Clip01((src[k * comps] - r.Low) / r.Range) : 0.0f;
+                    },
+                    ii, s, width, height, row);
+                  break;
+                }
+              }
+            }
+          }
+        });
+    });
   return true;
 }
 }

@@ -2,29 +2,56 @@
  * @file ptvFeatures.h
  * @brief Private: GuideNet input features from the named passes, exactly as
  *        Training/ptv_training/features.py defines them (that file is the specification; a
- *        parity test compares the two).
+ *        parity test compares the two), optionally box-averaged to the network's resolution.
  *
  * Channel names ("color.r", "albedo.g", "normal.x", "depth", "position.y", "scatter_normal.z",
  * "scatter_depth", "scatter_position.x", "alpha") come from the model's ptv.input_channels.
+ *
+ * With a guide stride s > 1 (the model's ptv.guide_stride, Training/ptv_training/guidenet.py)
+ * each output pixel (i, j) of the ceil(H / s) x ceil(W / s) planes is the mean of the features of
+ * the s x s block of pixels (s i + dy, s j + dx), indices clamped to the image (edge replicated).
+ * Work is threaded over output rows (vtkSMPTools); buffers are kept between frames.
  */
 #ifndef ptvFeatures_h
 #define ptvFeatures_h
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
 namespace ptv
 {
-/**
- * Fill @a out (channels.size() x height x width, planar) from @a passes (indexed by PassId,
- * interleaved, bottom row first). Returns false and names the channel in @a error when a name
- * is unknown or a needed pass is missing (nullptr).
- */
-bool BuildFeatures(const float* const* passes, int width, int height,
-  const std::vector<std::string>& channels, float* out, std::string& error);
+class FeatureBuilder
+{
+public:
+  FeatureBuilder();
+  ~FeatureBuilder();
+
+  /**
+   * Fill @a out (channels.size() planes of ceil(height / stride) x ceil(width / stride), planar)
+   * from @a passes (indexed by PassId, interleaved, bottom row first). Returns false and names
+   * the channel in @a error when a name is unknown or a needed pass is missing (nullptr).
+   * @a threads <= 0: every core.
+   */
+  bool Build(const float* const* passes, int width, int height,
+    const std::vector<std::string>& channels, int stride, int threads, float* out,
+    std::string& error);
+
+private:
+  struct Plan; // one channel: what it reads and, for depth/position, its hit test and range
+  std::vector<Plan> Plans;
+  std::vector<float> RowLow, RowHigh, RowFar; // per-row reductions
+  std::vector<unsigned char> RowAny;
+};
 
 /// Whether @a name is a known feature channel.
 bool IsFeatureChannel(const std::string& name);
+
+/// ceil(n / stride), the size of a feature plane along an axis of n pixels.
+inline int ReducedSize(int n, int stride)
+{
+  return (n + stride - 1) / stride;
+}
 }
 
 #endif

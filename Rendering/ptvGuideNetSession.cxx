@@ -18,6 +18,9 @@ const char* const ChannelsKey = "ptv.input_channels";
 const char* const LevelsKey = "ptv.levels";
 const char* const GuideScaleKey = "ptv.guide_scale";
 const char* const DemodulateKey = "ptv.demodulate";
+const char* const GuideStrideKey = "ptv.guide_stride";
+const char* const OutputsKey = "ptv.outputs";
+constexpr int kMaxGuideStride = 16;
 const char* const FormatValue = "guidenet-v1";
 const char* const ImageFormatValue = "denoiser-v1"; // an image-to-image network (baseline)
 const char* const CpuProvider = "CPUExecutionProvider";
@@ -148,6 +151,8 @@ void GuideNetSession::Unload()
   this->GuideScale = 255.0;
   this->Demodulate = true;
   this->ImageOutput = false;
+  this->GuideStride = 1;
+  this->OutputChannels = 0;
 }
 
 //------------------------------------------------------------------------------
@@ -181,6 +186,8 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   std::vector<std::string> channels;
   std::vector<std::pair<int, int>> levels;
   double guideScale = 255.0;
+  int guideStride = 1;
+  int outputChannels = 0;
   bool demodulate = true;
   bool image = false;
   std::string provider = CpuProvider;
@@ -318,6 +325,22 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       }
     }
 
+    if (lookup(GuideStrideKey, value))
+    {
+      if (!ParsePositive(Trim(value), guideStride) || guideStride > kMaxGuideStride)
+      {
+        problems.push_back(std::string("metadata ") + GuideStrideKey + " \"" + value +
+          "\" is not an integer from 1 to " + std::to_string(kMaxGuideStride));
+        guideStride = 1;
+      }
+    }
+
+    if (image && guideStride != 1)
+    {
+      problems.push_back(std::string("metadata ") + GuideStrideKey +
+        " is only for guidenet-v1 models, an image model runs at full resolution");
+    }
+
     if (lookup(DemodulateKey, value))
     {
       if (value == "0" || value == "1")
@@ -382,7 +405,18 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       if (DescribeTensor(in.Session.GetOutputTypeInfo(0), what.c_str(), in.OutputShape, problems))
       {
         const auto& s = in.OutputShape;
-        const int64_t expected = 2 * static_cast<int64_t>(levels.size()) - 1;
+        // Guides and blend weights, then any padding channels ptv.outputs names "pad..." (ONNX
+        // Runtime's fast convolutions want channel counts that are multiples of 8).
+        int64_t padding = 0;
+        if (lookup(OutputsKey, value))
+        {
+          const std::vector<std::string> names = Split(value, ',');
+          for (auto it = names.rbegin(); it != names.rend() && it->rfind("pad", 0) == 0; ++it)
+          {
+            ++padding;
+          }
+        }
+        const int64_t expected = 2 * static_cast<int64_t>(levels.size()) - 1 + padding;
         if (s.size() != 4)
         {
           problems.push_back(what + " has rank " + std::to_string(s.size()) + " " +
@@ -401,7 +435,13 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
         {
           problems.push_back("model outputs " + std::to_string(s[1]) + " channels but " +
             LevelsKey + " lists " + std::to_string(levels.size()) + " levels (expected 2L - 1 = " +
-            std::to_string(expected) + ": guides, then blend weights)");
+            std::to_string(expected - padding) + ": guides, then blend weights" +
+            (padding ? ", then the " + std::to_string(padding) + " padding channels of " +
+                OutputsKey : std::string()) + ")");
+        }
+        else
+        {
+          outputChannels = static_cast<int>(s[1]);
         }
       }
     }
@@ -428,6 +468,8 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   this->GuideScale = guideScale;
   this->Demodulate = demodulate;
   this->ImageOutput = image;
+  this->GuideStride = guideStride;
+  this->OutputChannels = outputChannels;
   return true;
 }
 

@@ -53,18 +53,22 @@ public:
   bool IsLoaded() const;
 
   /**
-   * Run on @a features (C x H x W, planar, row-major) into @a out ((2L - 1) x H x W). Both buffers
-   * belong to the caller; ORT reads/writes them in place (no copies).
+   * Run on @a features (C x H x W, planar, row-major) into @a out (GetNumberOfOutputs() x H x W).
+   * Both buffers belong to the caller; ORT reads/writes them in place (no copies). H and W are the
+   * network's: the image's divided by GetGuideStride(), rounded up.
    */
   bool Run(const float* features, int height, int width, float* out, std::string& error);
 
   int GetNumberOfInputChannels() const { return static_cast<int>(this->Channels.size()); }
   const std::vector<std::string>& GetInputChannels() const { return this->Channels; }
   int GetNumberOfLevels() const { return static_cast<int>(this->Levels.size()); }
-  int GetNumberOfOutputs() const
-  {
-    return this->ImageOutput ? 3 : 2 * this->GetNumberOfLevels() - 1;
-  }
+  /// Output channels: 3 for an image model, else 2L - 1 (guides, blend weights) plus the padding
+  /// channels that "ptv.outputs" names "pad..." (ignored: ONNX Runtime's fast kernels want
+  /// channel counts that are multiples of 8).
+  int GetNumberOfOutputs() const { return this->OutputChannels; }
+  /// "ptv.guide_stride" (default 1): the network runs on s x s box-averaged features and its
+  /// outputs are upsampled bilinearly (Training/ptv_training/guidenet.py).
+  int GetGuideStride() const { return this->GuideStride; }
   /// True for a "denoiser-v1" model: its output is the denoised radiance, not grid guides.
   bool IsImageModel() const { return this->ImageOutput; }
   /// (spatial step ss, range step sr) per level, finest first.
@@ -90,6 +94,8 @@ private:
   double GuideScale = 255.0;
   bool Demodulate = true;
   bool ImageOutput = false;
+  int OutputChannels = 0;
+  int GuideStride = 1;
 };
 }
 

@@ -141,6 +141,7 @@ bool vtkPTVDenoiser::Execute()
   settings.Levels = this->NumberOfLevels;
   settings.Clamp = this->Clamp;
   settings.Threads = this->NumberOfThreads;
+  settings.PortableKernels = this->PortableKernels;
   std::vector<float> out(static_cast<std::size_t>(w) * h * 3);
   std::string error;
   if (!in.Core.Run(settings, passes, w, h, out.data(), error))
@@ -200,6 +201,12 @@ const char* vtkPTVDenoiser::GetStatus()
 }
 
 //------------------------------------------------------------------------------
+const char* vtkPTVDenoiser::GetKernelTarget()
+{
+  return this->Internals->Core.GetGridKernelTarget();
+}
+
+//------------------------------------------------------------------------------
 double vtkPTVDenoiser::GetLastFeatureTime()
 {
   return this->Internals->Core.GetTimings().Features;
@@ -232,5 +239,6 @@ void vtkPTVDenoiser::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfLevels: " << this->NumberOfLevels << "\n";
   os << indent << "Clamp: " << this->Clamp << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "PortableKernels: " << this->PortableKernels << "\n";
   os << indent << "Status: " << this->Internals->Core.GetStatus() << "\n";
 }

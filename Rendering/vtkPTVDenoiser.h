@@ -83,6 +83,21 @@ public:
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 
+  ///@{
+  /**
+   * Run the bilateral grid's CPU kernels in their portable (baseline) build instead of the best
+   * instruction set of this CPU (AVX-512, AVX2, SSE4, chosen at run time). Default off; the
+   * environment variable PTV_PORTABLE_KERNELS=1 forces it too. Results agree within rounding.
+   */
+  vtkSetMacro(PortableKernels, bool);
+  vtkGetMacro(PortableKernels, bool);
+  vtkBooleanMacro(PortableKernels, bool);
+  ///@}
+
+  /// The instruction set the grid's CPU kernels used in the last Execute() ("AVX3", "AVX2",
+  /// "SSE4", "SCALAR", ...; "" before the first).
+  const char* GetKernelTarget();
+
   /**
    * Denoise the current images. Returns false (with an error naming the problem) when Radiance
    * or Albedo is missing, sizes differ, arrays are not float or have the wrong component count,
@@ -119,6 +134,7 @@ protected:
   int NumberOfLevels = 0;
   double Clamp = 8.0;
   int NumberOfThreads = 0;
+  bool PortableKernels = false;
 
 private:
   vtkPTVDenoiser(const vtkPTVDenoiser&) = delete;
