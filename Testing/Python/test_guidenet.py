@@ -120,9 +120,90 @@ def test_forward_same_size_in_unit_range(hidden: int) -> None:
 
 
 def test_bad_network_arguments() -> None:
-    for kw in ({"kernel": 4}, {"hidden": -1}, {"levels": 0}):
+    for kw in ({"kernel": 4}, {"hidden": -1}, {"levels": 0}, {"stride": 3}, {"stride": 0},
+               {"stride": 16}, {"out_channels": 4}, {"levels": 2, "out_channels": 2}):
         with pytest.raises(ValueError):
             GuideNet(10, **kw)
+    assert GuideNet(10, levels=2, out_channels=3).out_channels == 3
+
+
+@pytest.mark.parametrize("hidden", [20, 0])
+def test_stride1_is_the_original_formula(hidden: int) -> None:
+    """stride 1, default out_channels: conv, LeakyReLU(0.2), conv, sigmoid, bit for bit; old
+    checkpoints (keys "body.*") load."""
+    import torch.nn.functional as tf
+
+    net = random_net(10, 3, hidden=hidden)
+    assert net.stride == 1 and net.out_channels == 5
+    x = torch.rand(2, 10, 23, 37)
+    convs = [m for m in net.core if isinstance(m, torch.nn.Conv2d)]
+    with torch.no_grad():
+        y = tf.conv2d(x, convs[0].weight, convs[0].bias, padding=2)
+        if hidden:
+            y = tf.conv2d(tf.leaky_relu(y, 0.2), convs[1].weight, convs[1].bias, padding=2)
+        expected = torch.sigmoid(y)
+        assert torch.equal(net(x), expected)
+    old = {k.replace("core.", "body."): v.clone() for k, v in net.state_dict().items()}
+    assert all(k.startswith("body.") for k in old)
+    fresh = GuideNet(**net.config())
+    fresh.load_state_dict(old)
+    with torch.no_grad():
+        assert torch.equal(fresh(x), expected)
+    legacy = {k: v for k, v in net.config().items() if k not in ("stride", "out_channels")}
+    assert GuideNet(**legacy).config() == net.config()  # checkpoint configs before stride
+
+
+def numpy_strided(net: GuideNet, feats: np.ndarray) -> np.ndarray:
+    """Brute-force forward() of a strided net: s x s means with the edge replicated, the core
+    (torch) on them, bilinear upsampling with PyTorch's clamping (align_corners=False)."""
+    s = net.stride
+    c, height, width = feats.shape
+    h, w = -(-height // s), -(-width // s)
+    low = np.zeros((c, h, w))
+    for y in range(h):
+        for x in range(w):
+            rows = [min(y * s + i, height - 1) for i in range(s)]
+            cols = [min(x * s + j, width - 1) for j in range(s)]
+            low[:, y, x] = feats[:, rows][:, :, cols].astype(np.float64).mean(axis=(1, 2))
+    with torch.no_grad():
+        out = net.core(torch.from_numpy(low.astype(np.float32))[None]).numpy()[0]
+
+    def taps(n_out: int, n_in: int):
+        src = np.maximum((np.arange(n_out) + 0.5) / s - 0.5, 0.0)
+        i0 = np.floor(src).astype(int)
+        return i0, np.minimum(i0 + 1, n_in - 1), src - i0
+
+    y0, y1, ly = taps(height, h)
+    x0, x1, lx = taps(width, w)
+    o = out.astype(np.float64)
+    top = o[:, y0][:, :, x0] * (1 - lx) + o[:, y0][:, :, x1] * lx
+    bottom = o[:, y1][:, :, x0] * (1 - lx) + o[:, y1][:, :, x1] * lx
+    return top * (1 - ly)[:, None] + bottom * ly[:, None]
+
+
+@pytest.mark.parametrize("stride", [2, 4])
+@pytest.mark.parametrize("w,h", [(37, 23), (1, 1), (5, 9), (8, 12)])
+def test_strided_forward_matches_numpy(stride: int, w: int, h: int) -> None:
+    net = random_net(10, 7, hidden=16, kernel=3, stride=stride, out_channels=8)
+    feats = random_features(10, h, w, 5)
+    got = torch_forward(net, feats)
+    assert got.shape == (8, h, w)
+    diff = float(np.abs(got - numpy_strided(net, feats)).max())
+    assert diff <= 1e-6, diff
+    guides, weights = net.split(torch.from_numpy(got)[None])
+    assert guides.shape[1] == 3 and weights.shape[1] == 2  # padding channels dropped
+
+
+def test_config_and_macs_with_stride() -> None:
+    net = GuideNet(10, hidden=16, kernel=3, stride=2, out_channels=8)
+    assert net.config() == {"in_channels": 10, "hidden": 16, "kernel": 3, "levels": 3,
+                            "stride": 2, "out_channels": 8}
+    assert GuideNet(**net.config()).config() == net.config()
+    assert "stride=2" in repr(net) and "out=8" in repr(net)
+    assert macs_per_pixel(net) == 9 * (10 * 16 + 16 * 8) / 4
+    assert macs_per_pixel(GuideNet(10, stride=4)) == 7500 / 16
+    assert macs_per_pixel(GuideNet(3, hidden=0, kernel=3, stride=2)) == 9 * 3 * 5 / 4
+    assert count_parameters(net) == 10 * 9 * 16 + 16 + 16 * 9 * 8 + 8
 
 
 # --- features ------------------------------------------------------------------------------------
@@ -260,6 +341,7 @@ def test_export_checker_and_metadata(tmp_path: Path) -> None:
     assert props["ptv.input_channels"] == ",".join(F.VOLUME_FEATURES)
     assert props["ptv.levels"] == "4:4,8:8,16:16"
     assert props["ptv.guide_scale"] == "255"
+    assert props["ptv.guide_stride"] == "1"
     assert props["ptv.outputs"] == "guide0,guide1,guide2,weight0,weight1"
     assert props["ptv.note"] == "test"
     (inp,), (out,) = model.graph.input, model.graph.output
@@ -287,6 +369,7 @@ def test_export_cli(tmp_path: Path) -> None:
     help_text = subprocess.run(cmd + ["--help"], env=env, check=True, capture_output=True,
                                text=True).stdout
     assert "--channels" in help_text and "--seed" in help_text
+    assert "--stride" in help_text and "--out-channels" in help_text
     out = tmp_path / "cli.onnx"
     for _ in range(2):
         subprocess.run(cmd + [str(out), "--hidden", "0", "--seed", "7"], env=env, check=True,
@@ -295,6 +378,34 @@ def test_export_cli(tmp_path: Path) -> None:
     subprocess.run(cmd + [str(out), "--hidden", "0", "--seed", "7"], env=env, check=True,
                    capture_output=True)
     assert out.read_bytes() == first  # seeded: reproducible
+
+
+def test_export_strided_padded(tmp_path: Path) -> None:
+    """A stride-2 model with 8 outputs: the file is model.core (reduced resolution), the
+    metadata names the stride and the padding channels."""
+    import onnx
+    import onnxruntime as ort
+    import torch.nn.functional as tf
+
+    net = random_net(10, 13, hidden=16, kernel=3, stride=2, out_channels=8)
+    path = export(net, tmp_path / "s2.onnx", F.PAPER_10)
+    props = {p.key: p.value for p in onnx.load(str(path)).metadata_props}
+    assert props["ptv.guide_stride"] == "2"
+    outputs = props["ptv.outputs"].split(",")
+    assert outputs == ["guide0", "guide1", "guide2", "weight0", "weight1", "pad0", "pad1",
+                       "pad2"]
+    assert "stride=2" in props["ptv.architecture"]
+    session = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+    for w, h in SIZES + [(1, 1), (5, 9)]:
+        feats = torch.from_numpy(random_features(10, h, w, 4))[None]
+        low = tf.avg_pool2d(tf.pad(feats, (0, (-w) % 2, 0, (-h) % 2), mode="replicate"), 2)
+        (got,) = session.run(None, {"features": low.numpy()})
+        assert got.shape == (1, 8, (h + 1) // 2, (w + 1) // 2)
+        with torch.no_grad():
+            expected = net.core(low).numpy()
+        assert float(np.abs(got - expected).max()) <= TOL
+    with pytest.raises(ValueError, match="override"):
+        export(net, tmp_path / "x.onnx", F.PAPER_10, extra_metadata={"ptv.guide_stride": "1"})
 
 
 @pytest.mark.parametrize("w,h", SIZES)

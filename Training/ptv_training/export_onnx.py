@@ -1,14 +1,20 @@
 """Export a :class:`~ptv_training.guidenet.GuideNet` to ONNX ("guidenet-v1") for the C++ side
 (``vtkPTVGuideNet``, ONNX Runtime).
 
-Contract: opset 17; one input ``features`` ``[1, C, H, W]`` float32 (H, W dynamic); one output
-``guides_weights`` ``[1, 2L - 1, H, W]``; metadata_props::
+Contract: opset 17; the file holds ``GuideNet.core`` (the conv stack + sigmoid), which runs at
+the reduced resolution h = ceil(H / s), w = ceil(W / s) of a guide stride s; one input
+``features`` ``[1, C, h, w]`` float32 (h, w dynamic; with s > 1 the caller average-pools the
+full-resolution features, edge replicated, as ``GuideNet.forward`` does); one output
+``guides_weights`` ``[1, out_channels, h, w]`` (with s > 1 the caller upsamples it bilinearly to
+H x W, PyTorch's align_corners=False rule: see ``ptv_training.guidenet``); metadata_props::
 
     ptv.format          guidenet-v1
     ptv.input_channels  comma-separated channel names (ptv_training.features), in input order
     ptv.levels          "ss:sr" per level, finest first: "4:4,8:8,16:16"
     ptv.guide_scale     255 (guides in [0, 1] times this = grid range coordinate)
-    ptv.outputs         guide0,...,guide{L-1},weight0,...,weight{L-2}
+    ptv.guide_stride    s, one of 1, 2, 4, 8 (a model without this key has stride 1)
+    ptv.outputs         guide0,...,guide{L-1},weight0,...,weight{L-2}, then pad0,pad1,... for
+                        the padding channels beyond 2L - 1 (ignored)
     ptv.architecture    GuideNet constructor arguments (informative)
 
 ``export_image_model`` writes the U-Net baseline (``ptv_training.unet``) as "denoiser-v1": the
@@ -19,7 +25,8 @@ The file is written to a temporary file next to ``path`` and moved into place (a
 
 CLI (random, seeded weights; useful for tests until a trained model exists)::
 
-    python -m ptv_training.export_onnx OUT.onnx [--channels PAPER_10] [--hidden 20] ...
+    python -m ptv_training.export_onnx OUT.onnx [--channels PAPER_10] [--hidden 20] \\
+        [--stride 2] [--out-channels 8] ...
 """
 from __future__ import annotations
 
@@ -33,7 +40,7 @@ import torch
 from pathtracedvolume.atomic import write_bytes
 
 from .features import resolve_channels
-from .guidenet import GuideNet, count_parameters
+from .guidenet import STRIDES, GuideNet, count_parameters
 
 FORMAT = "guidenet-v1"
 IMAGE_FORMAT = "denoiser-v1"  # image-to-image baseline: output = denoised radiance
@@ -44,7 +51,7 @@ IMAGE_OUTPUT_NAME = "radiance"
 DEFAULT_LEVELS: Tuple[Tuple[int, int], ...] = ((4, 4), (8, 8), (16, 16))
 GUIDE_SCALE = 255
 RESERVED_KEYS = ("ptv.format", "ptv.input_channels", "ptv.levels", "ptv.guide_scale",
-                 "ptv.outputs", "ptv.architecture")
+                 "ptv.guide_stride", "ptv.outputs", "ptv.architecture")
 
 
 def levels_string(levels: Sequence[Tuple[int, int]]) -> str:
@@ -52,10 +59,15 @@ def levels_string(levels: Sequence[Tuple[int, int]]) -> str:
     return ",".join(f"{int(ss)}:{int(sr)}" for ss, sr in levels)
 
 
-def outputs_string(num_levels: int) -> str:
-    """3 -> "guide0,guide1,guide2,weight0,weight1"."""
+def outputs_string(num_levels: int, out_channels: Optional[int] = None) -> str:
+    """(3) -> "guide0,guide1,guide2,weight0,weight1"; (3, 8) -> the same + ",pad0,pad1,pad2"."""
+    needed = 2 * num_levels - 1
+    pads = (out_channels or needed) - needed
+    if pads < 0:
+        raise ValueError(f"{out_channels} output channels for {num_levels} levels")
     return ",".join([f"guide{i}" for i in range(num_levels)] +
-                    [f"weight{i}" for i in range(num_levels - 1)])
+                    [f"weight{i}" for i in range(num_levels - 1)] +
+                    [f"pad{i}" for i in range(pads)])
 
 
 def metadata(model: GuideNet, channels: Sequence[str],
@@ -77,7 +89,8 @@ def metadata(model: GuideNet, channels: Sequence[str],
         "ptv.input_channels": ",".join(channels),
         "ptv.levels": levels_string(levels),
         "ptv.guide_scale": str(GUIDE_SCALE),
-        "ptv.outputs": outputs_string(model.levels),
+        "ptv.guide_stride": str(model.stride),
+        "ptv.outputs": outputs_string(model.levels, model.out_channels),
         "ptv.architecture": ",".join(f"{k}={v}" for k, v in model.config().items()),
     }
     for key, value in (extra_metadata or {}).items():
@@ -90,11 +103,12 @@ def metadata(model: GuideNet, channels: Sequence[str],
 def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
            levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
            extra_metadata: Optional[Mapping[str, str]] = None) -> Path:
-    """Write ``model`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the path."""
+    """Write ``model.core`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the
+    path."""
     props = metadata(model, channels, levels, extra_metadata)
     doc = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
            f"{count_parameters(model)} parameters)")
-    return _write(model, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
+    return _write(model.core, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
 
 
 def export_image_model(model: torch.nn.Module, path: str | os.PathLike,
@@ -177,17 +191,25 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--kernel", type=int, default=5, help="odd kernel size (default: 5)")
     parser.add_argument("--levels", type=parse_levels, default=DEFAULT_LEVELS,
                         help="ss:sr per level (default: 4:4,8:8,16:16)")
+    parser.add_argument("--stride", type=int, default=1, choices=STRIDES,
+                        help="guide stride: the network runs at 1/stride resolution "
+                             "(default: 1)")
+    parser.add_argument("--out-channels", type=int, default=0,
+                        help="output channels incl. padding, >= 2 * levels - 1 "
+                             "(default: 0 = 2 * levels - 1)")
     parser.add_argument("--seed", type=int, default=0, help="torch seed (default: 0)")
     args = parser.parse_args(argv)
 
     channels = resolve_channels(args.channels)
     torch.manual_seed(args.seed)
     model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
-                     levels=len(args.levels))
+                     levels=len(args.levels), stride=args.stride,
+                     out_channels=args.out_channels or None)
     path = export(model, args.output, channels, args.levels,
                   extra_metadata={"ptv.weights": f"random seed {args.seed}"})
     print(f"wrote {path} ({path.stat().st_size} bytes): {len(channels)} channels, "
-          f"{count_parameters(model)} parameters, levels {levels_string(args.levels)}")
+          f"{count_parameters(model)} parameters, levels {levels_string(args.levels)}, "
+          f"stride {model.stride}, {model.out_channels} outputs")
     return 0
 
 

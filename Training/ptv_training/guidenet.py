@@ -1,35 +1,57 @@
 """GuideNet: the only learned part of the neural bilateral-grid denoiser (Meng et al. 2020).
 
 A tiny fully convolutional network maps per-pixel features (see :mod:`ptv_training.features`)
-to the grid's guides and blend weights::
+to the grid's guides and blend weights. ``self.core`` (what is exported to ONNX) is::
 
-    conv k x k, in -> hidden, LeakyReLU(0.2), conv k x k, hidden -> 2L - 1, sigmoid
+    conv k x k, in -> hidden, LeakyReLU(0.2), conv k x k, hidden -> out_channels, sigmoid
 
-with zero padding k // 2, so the output has the input's height and width (any size, odd sizes
-included). Output channels: ``levels`` guides in [0, 1] (the grid multiplies them by 255 to get
-range coordinates), then ``levels - 1`` blend weights in [0, 1]; the last level's weight is
-``1 - sum(weights)`` and may go negative.
+with zero padding k // 2, so its output has its input's height and width (any size, odd sizes
+included). ``hidden=0`` gives the smallest network, a single k x k conv ``in -> out_channels``
+plus sigmoid (for ablations).
 
-The original network is ``GuideNet(10)`` (5 x 5, 10 -> 20 -> 5): 7,525 parameters.
-``hidden=0`` gives the smallest network, a single k x k conv ``in -> 2L - 1`` plus sigmoid
-(for ablations).
+Output channels: ``levels`` (L) guides in [0, 1] (the grid multiplies them by 255 to get range
+coordinates), then ``L - 1`` blend weights in [0, 1]; the last level's weight is
+``1 - sum(weights)`` and may go negative. ``out_channels`` (default 2L - 1, at least 2L - 1) is
+the number of channels the final conv produces; the channels beyond 2L - 1 are padding, ignored
+by :meth:`GuideNet.split` (they exist because ONNX Runtime's fast NCHWc convolution wants channel
+counts that are multiples of 8).
+
+Stride ``s`` in {1, 2, 4, 8}: the core runs at reduced resolution. ``forward(features)``, features
+``[N, C, H, W]`` at full resolution:
+
+1. if s > 1: ``low = F.avg_pool2d(F.pad(features, (0, pw, 0, ph), mode="replicate"), s)`` with
+   ``ph = (-H) % s``, ``pw = (-W) % s``, i.e. low size h = ceil(H / s), w = ceil(W / s), each low
+   pixel the mean of its s x s block with the image edge replicated;
+2. ``out = self.core(low)`` (``low = features`` when s == 1);
+3. if s > 1: ``out = F.interpolate(out, scale_factor=s, mode="bilinear", align_corners=False,
+   recompute_scale_factor=False)[:, :, :H, :W]`` (source coordinate (y + 0.5) / s - 0.5 clamped
+   at 0, neighbour index clamped at h - 1: PyTorch's rule);
+4. returns ``[N, out_channels, H, W]``.
+
+With s == 1 and out_channels == 2L - 1 this is exactly the original network. The original
+network is ``GuideNet(10)`` (5 x 5, 10 -> 20 -> 5): 7,525 parameters. Checkpoints written before
+``core`` existed (state_dict keys ``body.*``) still load.
 """
 from __future__ import annotations
 
-from typing import Dict, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import torch
+import torch.nn.functional as F
 from torch import nn
+
+STRIDES = (1, 2, 4, 8)
 
 
 class GuideNet(nn.Module):
-    """conv(k) -> LeakyReLU(0.2) -> conv(k) -> sigmoid, or a single conv when ``hidden == 0``.
+    """conv(k) -> LeakyReLU(0.2) -> conv(k) -> sigmoid (or a single conv when ``hidden == 0``)
+    at 1 / ``stride`` resolution, bilinearly upsampled back.
 
-    Input ``[N, in_channels, H, W]``; output ``[N, 2 * levels - 1, H, W]`` in [0, 1].
+    Input ``[N, in_channels, H, W]``; output ``[N, out_channels, H, W]`` in [0, 1].
     """
 
-    def __init__(self, in_channels: int, hidden: int = 20, kernel: int = 5,
-                 levels: int = 3) -> None:
+    def __init__(self, in_channels: int, hidden: int = 20, kernel: int = 5, levels: int = 3,
+                 stride: int = 1, out_channels: Optional[int] = None) -> None:
         super().__init__()
         if in_channels < 1:
             raise ValueError(f"in_channels must be >= 1, got {in_channels}")
@@ -39,38 +61,62 @@ class GuideNet(nn.Module):
             raise ValueError(f"kernel must be odd (same-size output), got {kernel}")
         if levels < 1:
             raise ValueError(f"levels must be >= 1, got {levels}")
+        if stride not in STRIDES:
+            raise ValueError(f"stride must be one of {STRIDES}, got {stride}")
+        needed = 2 * levels - 1
+        if out_channels is None:
+            out_channels = needed
+        if out_channels < needed:
+            raise ValueError(f"out_channels must be >= 2 * levels - 1 = {needed}, "
+                             f"got {out_channels}")
         self.in_channels = in_channels
         self.hidden = hidden
         self.kernel = kernel
         self.levels = levels
-        self.out_channels = 2 * levels - 1
+        self.stride = stride
+        self.out_channels = out_channels
         pad = kernel // 2
         if hidden > 0:
-            self.body = nn.Sequential(
-                nn.Conv2d(in_channels, hidden, kernel, padding=pad),
-                nn.LeakyReLU(0.2),
-                nn.Conv2d(hidden, self.out_channels, kernel, padding=pad),
-            )
+            layers = [nn.Conv2d(in_channels, hidden, kernel, padding=pad), nn.LeakyReLU(0.2),
+                      nn.Conv2d(hidden, out_channels, kernel, padding=pad)]
         else:
-            self.body = nn.Sequential(
-                nn.Conv2d(in_channels, self.out_channels, kernel, padding=pad))
-        self.activation = nn.Sigmoid()
+            layers = [nn.Conv2d(in_channels, out_channels, kernel, padding=pad)]
+        self.core = nn.Sequential(*layers, nn.Sigmoid())
 
     def forward(self, features: torch.Tensor) -> torch.Tensor:
-        return self.activation(self.body(features))
+        s = self.stride
+        if s == 1:
+            return self.core(features)
+        height, width = features.shape[-2:]
+        padded = F.pad(features, (0, (-width) % s, 0, (-height) % s), mode="replicate")
+        out = self.core(F.avg_pool2d(padded, s))
+        out = F.interpolate(out, scale_factor=s, mode="bilinear", align_corners=False,
+                            recompute_scale_factor=False)
+        return out[:, :, :height, :width]
 
     def split(self, output: torch.Tensor) -> Tuple[torch.Tensor, torch.Tensor]:
-        """(guides ``[N, L, H, W]``, weights ``[N, L - 1, H, W]``) of a forward() output."""
-        return output[:, :self.levels], output[:, self.levels:]
+        """(guides ``[N, L, H, W]``, weights ``[N, L - 1, H, W]``) of a forward() output
+        (padding channels dropped)."""
+        return output[:, :self.levels], output[:, self.levels:2 * self.levels - 1]
 
     def config(self) -> Dict[str, int]:
         """Constructor arguments (store them next to a checkpoint's state_dict)."""
         return {"in_channels": self.in_channels, "hidden": self.hidden,
-                "kernel": self.kernel, "levels": self.levels}
+                "kernel": self.kernel, "levels": self.levels, "stride": self.stride,
+                "out_channels": self.out_channels}
 
     def extra_repr(self) -> str:
         return (f"in={self.in_channels}, hidden={self.hidden}, kernel={self.kernel}, "
-                f"levels={self.levels}, params={count_parameters(self)}")
+                f"levels={self.levels}, stride={self.stride}, out={self.out_channels}, "
+                f"params={count_parameters(self)}")
+
+    def _load_from_state_dict(self, state_dict: Dict[str, Any], prefix: str,
+                              *args: Any, **kwargs: Any) -> None:
+        # Old checkpoints: "body.<i>.*" is today's "core.<i>.*" (same layer indices).
+        old = prefix + "body."
+        for key in [k for k in state_dict if k.startswith(old)]:
+            state_dict[prefix + "core." + key[len(old):]] = state_dict.pop(key)
+        super()._load_from_state_dict(state_dict, prefix, *args, **kwargs)
 
 
 def count_parameters(model: nn.Module) -> int:
@@ -78,9 +124,13 @@ def count_parameters(model: nn.Module) -> int:
     return sum(p.numel() for p in model.parameters() if p.requires_grad)
 
 
-def macs_per_pixel(model: GuideNet) -> int:
-    """Multiply-accumulates per output pixel (bias and activations not counted)."""
+def macs_per_pixel(model: GuideNet) -> float:
+    """Multiply-accumulates per full-resolution pixel (bias, activations, pooling and
+    upsampling not counted): the core's MACs per reduced pixel / stride^2; an int when exact."""
     k2 = model.kernel * model.kernel
     if model.hidden > 0:
-        return k2 * (model.in_channels * model.hidden + model.hidden * model.out_channels)
-    return k2 * model.in_channels * model.out_channels
+        macs = k2 * (model.in_channels * model.hidden + model.hidden * model.out_channels)
+    else:
+        macs = k2 * model.in_channels * model.out_channels
+    s2 = model.stride * model.stride
+    return macs // s2 if macs % s2 == 0 else macs / s2

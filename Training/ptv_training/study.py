@@ -1,4 +1,4 @@
-"""CLI: the training studies of issue #5 in one command each — ablations and leave-one-out.
+"""CLI: the training studies in one command each — ablations, leave-one-out, U-Net, CPU cost.
 
 Every experiment is one ``train.py`` run with the same data, seed, step budget and optimizer, so
 only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reused when their
@@ -9,10 +9,17 @@ only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reus
     python Training/ptv_training/study.py ablation --steps 800
     python Training/ptv_training/study.py loo --steps 800
     python Training/ptv_training/study.py unet --steps 800
+    python Training/ptv_training/study.py cpu --steps 800
 
 ``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
 denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
 path; median of ``--repeats`` runs at 128² and at 512², 2 threads).
+
+``cpu`` trains cheaper GuideNets for ONNX Runtime on the CPU (the shipped flags: PAPER_10, 3
+levels, no demodulation): fewer hidden channels, 3 x 3 kernels, the network at 1/2 or 1/4
+resolution (``--stride``) and outputs padded to 8 channels (``--out-channels``);
+``h20_k5_s1`` is today's architecture retrained under the same budget. MACs are per
+full-resolution pixel.
 
 Results: ``Training/results/<study>.md`` and ``.json`` (written atomically).
 """
@@ -56,6 +63,20 @@ SHIP = ["--channels", "PAPER_10", "--hidden", "20", "--kernel", "5", "--no-demod
 # Runs shared between studies (trained once): experiment name -> run folder.
 SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3"}
 
+
+def cpu_candidate(hidden: int, kernel: int, stride: int, out_channels: int) -> Experiment:
+    """A ``cpu`` study run: the shipped flags with this GuideNet size, stride and padding."""
+    return Experiment(
+        f"h{hidden}_k{kernel}_s{stride}",
+        f"hidden {hidden}, {kernel}x{kernel}, stride {stride}, {out_channels} outputs",
+        ["--channels", "PAPER_10", "--hidden", str(hidden), "--kernel", str(kernel),
+         "--stride", str(stride), "--out-channels", str(out_channels), "--no-demodulate"])
+
+
+# (hidden, kernel, stride, out_channels). Today's architecture (20, 5, 1, 5) is the ablation's
+# paper_h20_L3 run (same data, seed, steps and flags), shared rather than trained again.
+CPU_CANDIDATES = ((16, 3, 1, 8), (16, 3, 2, 8), (16, 5, 2, 8), (16, 3, 4, 8), (8, 3, 2, 8))
+
 STUDIES: Dict[str, List[Experiment]] = {
     "ablation": [
         Experiment("vol_h8_L3", "volume features, hidden 8, 3 levels (candidate)", BASE),
@@ -79,6 +100,8 @@ STUDIES: Dict[str, List[Experiment]] = {
     "unet": [Experiment("paper_h20_L3", "bilateral grid + GuideNet (ours, shipped config)", SHIP),
              Experiment("unet_w16", "U-Net autoencoder (Hofmann et al. 2020 style), width 16",
                         ["--arch", "unet", "--width", "16", "--channels", "VOLUME_FEATURES"])],
+    "cpu": [Experiment("paper_h20_L3", "today's GuideNet: hidden 20, 5x5, stride 1, 5 outputs",
+                       SHIP)] + [cpu_candidate(*c) for c in CPU_CANDIDATES],
 }
 
 
@@ -214,13 +237,21 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
             lines.append(f"\nU-Net / ours: {b['ms_512'] / a['ms_512']:.1f}x the time at 512², "
                          f"{b['psnr_1spp_mean'] - a['psnr_1spp_mean']:+.2f} dB.")
         return "\n".join(lines) + "\n"
+    best = max(results, key=lambda r: r["psnr_1spp_mean"])
+    ok = [r for r in results if r["psnr_1spp_mean"] >= best["psnr_1spp_mean"] - KEEP_WITHIN_DB]
+    keep = min(ok, key=lambda r: (r["macs_per_pixel"], len(r["levels"].split(","))))
+    cheapest = (f"- Best mean: `{best['name']}` {best['psnr_1spp_mean']:.2f} dB. Cheapest within "
+                f"{KEEP_WITHIN_DB} dB of it: **`{keep['name']}`** ({keep['macs_per_pixel']} "
+                f"MACs/px, {keep['levels']}).")
+    if study == "cpu":
+        ref = results[0]  # today's architecture
+        lines = [cheapest] + [
+            f"- `{r['name']}`: {r['macs_per_pixel'] / ref['macs_per_pixel']:.3f}x the MACs of "
+            f"`{ref['name']}`, {r['psnr_1spp_mean'] - ref['psnr_1spp_mean']:+.2f} dB."
+            for r in results[1:]]
+        return "\n".join(lines) + "\n"
     if study == "ablation":
-        best = max(results, key=lambda r: r["psnr_1spp_mean"])
-        ok = [r for r in results if r["psnr_1spp_mean"] >= best["psnr_1spp_mean"] - KEEP_WITHIN_DB]
-        keep = min(ok, key=lambda r: (r["macs_per_pixel"], len(r["levels"].split(","))))
-        lines = [f"- Best mean: `{best['name']}` {best['psnr_1spp_mean']:.2f} dB. Cheapest within "
-                 f"{KEEP_WITHIN_DB} dB of it: **`{keep['name']}`** ({keep['macs_per_pixel']} "
-                 f"MACs/px, {keep['levels']})."]
+        lines = [cheapest]
         if "color_h8_L3" in by and "vol_h8_L3" in by:
             gain = by["vol_h8_L3"]["psnr_1spp_mean"] - by["color_h8_L3"]["psnr_1spp_mean"]
             lines.append(f"- Auxiliary features over colour only: {gain:+.2f} dB (target ≥ +0.5).")
@@ -244,8 +275,9 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
 
 def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p = argparse.ArgumentParser(prog="python Training/ptv_training/study.py",
-                                description="Train and tabulate the ablation or leave-one-out "
-                                            "study (runs are reused when already trained).")
+                                description="Train and tabulate one study: ablation, "
+                                            "leave-one-out, U-Net or CPU cost (runs are reused "
+                                            "when already trained).")
     p.add_argument("study", choices=sorted(STUDIES), help="which study")
     p.add_argument("--steps", type=int, default=800, help="training steps per run (default 800)")
     p.add_argument("--seed", type=int, default=0, help="seed of every run (default 0)")
@@ -284,7 +316,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             f"time {wall / 60:.1f} min, runs already trained are reused; 'train min' is each "
             "run's own training time).\n\n"
             "Validation PSNR (dB) at 1 spp, tone-mapped, against the 1024-spp reference, mean "
-            "over each dataset's held-out views.\n\n" + table(results) + "\n"
+            "over each dataset's held-out views; MACs per full-resolution pixel.\n\n"
+            + table(results) + "\n"
             + verdict(args.study, results))
     atomic_write(args.results / f"{args.study}.md", text)
     atomic_write(args.results / f"{args.study}.json",

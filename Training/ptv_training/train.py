@@ -7,6 +7,8 @@ and 4-spp accumulated passes of every training view (``--spp``). Per step::
     features --GuideNet--> guides (x 255), blend weights --bilateral_grid.denoise--> output
     loss = L1(tonemap(output), tonemap(reference)),  tonemap(x) = clip(max(0, x)^(1/2.2), 0, 1)
 
+GuideNet's ``--stride`` s runs the network on s x s average-pooled features and upsamples its
+output bilinearly (``guidenet.py``); ``--out-channels`` pads its output for ONNX Runtime.
 Adam (``--lr``, default 1e-3: a short run; the paper uses 1e-4 for long ones), halved after
 ``--lr-patience`` epochs without a better validation PSNR, gradient norm clipped to
 ``--clip-grad``. The last ``--val-per-dataset`` views of each dataset are held out;
@@ -48,7 +50,7 @@ from .data import (Sample, batch, load_samples, psnr, split_views, tonemap,  # n
                    tonemap_np)
 from .export_onnx import levels_string, parse_levels  # noqa: E402
 from .features import resolve_channels  # noqa: E402
-from .guidenet import GuideNet, count_parameters  # noqa: E402
+from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
 from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
 from .unet import UNet  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
@@ -155,12 +157,19 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="feature preset or comma-separated channels (default: VOLUME_FEATURES)")
     p.add_argument("--arch", choices=("guidenet", "unet"), default="guidenet",
                    help="guidenet (bilateral grid, default) or unet (the image-to-image baseline "
-                        "of Hofmann et al. 2020; ignores --hidden/--kernel/--levels)")
+                        "of Hofmann et al. 2020; ignores --hidden/--kernel/--levels/--stride/"
+                        "--out-channels)")
     p.add_argument("--width", type=int, default=16, help="U-Net base width (default 16)")
     p.add_argument("--hidden", type=int, default=16, help="GuideNet hidden channels (default 16)")
     p.add_argument("--kernel", type=int, default=5, help="GuideNet kernel size (default 5)")
     p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
                    help="grid levels ss:sr (default 4:4,8:8,16:16)")
+    p.add_argument("--stride", type=int, choices=STRIDES, default=1,
+                   help="GuideNet guide stride: the network runs on s x s average-pooled "
+                        "features, its output is upsampled bilinearly (default 1)")
+    p.add_argument("--out-channels", type=int, default=0,
+                   help="GuideNet output channels incl. padding, >= 2 * levels - 1 "
+                        "(default 0 = 2 * levels - 1)")
     p.add_argument("--no-demodulate", dest="demodulate", action="store_false",
                    help="denoise radiance itself, not radiance / albedo (1-spp volume albedo is "
                         "noisy: re-modulating by it puts noise back)")
@@ -228,7 +237,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         model: GuideNet | UNet = UNet(len(channels), width=args.width)
     else:
         model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
-                         levels=len(args.levels))
+                         levels=len(args.levels), stride=args.stride,
+                         out_channels=args.out_channels or None)
     optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
         optimizer, mode="max", factor=0.5, patience=max(args.lr_patience, 1), threshold=0.01,
@@ -238,7 +248,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     last_path, best_path = out / "last.pt", out / "best.pt"
     if args.resume and last_path.is_file():
         ck = torch.load(last_path)
-        if ck["config"] != model.config() or ck["channels"] != channels:
+        stored = dict(ck["config"])
+        if isinstance(model, GuideNet):  # written before stride/out_channels: 1, 2L - 1
+            stored.setdefault("stride", 1)
+            stored.setdefault("out_channels", 2 * stored["levels"] - 1)
+        if stored != model.config() or ck["channels"] != channels:
             raise SystemExit(f"{last_path} is a different model ({ck['config']}, "
                              f"{ck['channels']})")
         model.load_state_dict(ck["model"])
