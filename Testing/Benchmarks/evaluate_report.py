@@ -2,7 +2,7 @@
 """Evaluation report: quality against time, the paper's tables, temporal stability, a stress suite
 and where the time goes, written as Markdown + PNG charts + CSV/JSON of every figure.
 
-Sections (DESIGN.md section 7 protocol: images tone-mapped clip(max(0,x)^(1/2.2),0,1), PSNR/SSIM
+Sections (docs/measuring.md protocol: images tone-mapped clip(max(0,x)^(1/2.2),0,1), PSNR/SSIM
 from scikit-image with data_range 1, timings = median of --repeats after a warm-up, all methods
 in the same run):
 
@@ -1224,7 +1224,7 @@ class Evaluation:
             f"| sizes | Table 1 / temporal {a.size}², stress {a.stress_size}² (+ odd sizes), "
             f"references {a.ref_spp} spp (stress {a.stress_ref_spp}, {a.big_size} "
             f"{a.big_ref_spp}) |",
-            "| protocol | DESIGN.md §7: tone map clip(max(0,x)^(1/2.2),0,1); PSNR/SSIM "
+            "| protocol | docs/measuring.md: tone map clip(max(0,x)^(1/2.2),0,1); PSNR/SSIM "
             "scikit-image, data_range 1 |",
             f"| traced-image cache | {'off' if a.no_cache else a.cache} (tracer fingerprint "
             f"{self.fingerprint}; {self.cache.hits} hits, {self.cache.misses} renders) |",

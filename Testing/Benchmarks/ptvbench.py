@@ -1,5 +1,5 @@
 """Shared pieces of the benchmarks: scene set-up, pass capture, our denoiser and OIDN on the same
-passes, the tone map and metrics of DESIGN.md section 7, and median timing.
+passes, the tone map and metrics of docs/measuring.md, and median timing.
 
 Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb) for rendering;
 the metrics and timing helpers are plain NumPy. VTK is imported lazily, so importing this module
@@ -177,6 +177,33 @@ def scene_for(dataset: str, size: Tuple[int, int], **kwargs: Any) -> BenchScene:
     return BenchScene(load_dataset(dataset), make_property(paper_preset(dataset)), size, **kwargs)
 
 
+def bench_passes(dataset: str, size: int, ref_spp: int, cache: Path) -> Passes:
+    """1-spp passes (seed 1) of the dataset's benchmark view plus "Reference" (``ref_spp``,
+    seed 1000) and "Reference/2" (its first half), cached in ``cache`` as one .npz."""
+    from pathtracedvolume.atomic import atomic_path
+    from tqdm import tqdm
+
+    target = cache / f"{dataset}_{size}_{ref_spp}.npz"
+    if target.exists():
+        return dict(np.load(target))
+    scene = scene_for(dataset, (size, size))
+    scene.render(seed=1)
+    out: Passes = scene.passes()
+    bar = tqdm(total=ref_spp, desc=f"reference {dataset} {size}²", unit="spp", leave=False)
+
+    def on_frame(k: int) -> None:
+        bar.update(1)
+        if k == ref_spp // 2:
+            out["Reference/2"] = scene.grab("Radiance")
+    scene.render(seed=1000, frames=ref_spp, on_frame=on_frame)
+    bar.close()
+    out["Reference"] = scene.grab("Radiance")
+    cache.mkdir(parents=True, exist_ok=True)
+    with atomic_path(target, suffix=".tmp.npz") as tmp:
+        np.savez(tmp, **out)
+    return out
+
+
 # --- denoisers on captured passes ---------------------------------------------------------
 def _image(array: np.ndarray, name: str) -> Any:
     from vtkmodules.util.numpy_support import numpy_to_vtk
@@ -195,12 +222,14 @@ def _image(array: np.ndarray, name: str) -> Any:
 class Ours:
     """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels."""
 
-    def __init__(self, levels: int = 0, model: str = "", threads: int = 0) -> None:
+    def __init__(self, levels: int = 0, model: str = "", threads: int = 0,
+                 portable: bool = False) -> None:
         from pathtracedvolume import vtkPTVDenoiser
         self.den = vtkPTVDenoiser()
         self.den.SetModelFile(model)
         self.den.SetNumberOfLevels(int(levels))
         self.den.SetNumberOfThreads(int(threads))
+        self.den.SetPortableKernels(bool(portable))
         self._keep: list = []
 
     def set_passes(self, passes: Passes) -> None:
@@ -229,11 +258,15 @@ class Ours:
     def status(self) -> str:
         return str(self.den.GetStatus())
 
+    def kernel_target(self) -> str:
+        """The grid's CPU instruction set in the last Execute() ("AVX3", ..., "SCALAR")."""
+        return str(self.den.GetKernelTarget())
+
 
 def run_ours(passes: Passes, levels: int, model: str, repeats: int,
-             threads: int = 0) -> Dict[str, Any]:
+             threads: int = 0, portable: bool = False) -> Dict[str, Any]:
     """Our denoiser on ``passes``: median ms (and per stage) of ``repeats`` after a warm-up."""
-    ours = Ours(levels, model, threads)
+    ours = Ours(levels, model, threads, portable)
     ours.set_passes(passes)
     stages: Dict[str, list] = {k: [] for k in STAGES}
 
@@ -245,7 +278,7 @@ def run_ours(passes: Passes, levels: int, model: str, repeats: int,
 
     ms, out = timed(once, repeats)
     row: Dict[str, Any] = {k: statistics.median(v[1:]) for k, v in stages.items()}
-    row.update(ms=ms, image=out.copy(), status=ours.status())
+    row.update(ms=ms, image=out.copy(), status=ours.status(), kernels=ours.kernel_target())
     return row
 
 
