@@ -1,6 +1,6 @@
 #include "ptvBilateralGridCpu.h"
 
-#include "vtkSMPTools.h"
+#include "ptvThreads.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,7 +9,6 @@
 #include <cstring>
 #include <limits>
 #include <string>
-#include <thread>
 
 namespace ptv
 {
@@ -139,18 +138,8 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   const bool portable = settings.Portable || PortableFromEnvironment();
   this->KernelTarget = GridKernelTarget(portable);
 
-  int threads = settings.Threads;
-  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  if (backend == "Sequential" && threads != 1)
-  {
-    backend = "STDThread";
-  }
-  if (threads <= 0)
-  {
-    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  }
   // The splat's blocks of grid rows: one per thread, each with its own scratch row.
-  this->Prepare(settings, levels, width, height, threads);
+  this->Prepare(settings, levels, width, height, ResolvedThreads(settings.Threads));
 
   float* demod = this->Demodulated.data();
   double* rowLuminance = this->RowLuminance.data();
@@ -158,7 +147,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   PushGrid* grid = this->Levels;
   const int blocks = this->Blocks;
 
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
+  WithThreads(settings.Threads,
     [&]()
     {
       // Phase 1: sanitise + demodulate into (r, g, b, 1), row sums of luminance.

@@ -2,11 +2,10 @@
 
 #include "ptvPassBuffers.h"
 
-#include "vtkSMPTools.h"
+#include "ptvThreads.h"
 
 #include <algorithm>
 #include <string>
-#include <thread>
 
 namespace ptv
 {
@@ -16,16 +15,7 @@ void TraceFrameCpu(
 {
   const int width = params.Camera.Width;
   const int height = params.Camera.Height;
-  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  if (backend == "Sequential" && threads != 1)
-  {
-    backend = "STDThread";
-  }
-  if (threads <= 0)
-  {
-    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  }
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
+  WithThreads(threads,
     [&]() { vtkSMPTools::For(0, height, 1,
     [&](vtkIdType rowBegin, vtkIdType rowEnd)
     {

@@ -2,12 +2,11 @@
 
 #include "ptvPassBuffers.h"
 
-#include "vtkSMPTools.h"
+#include "ptvThreads.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <thread>
 
 namespace ptv
 {
@@ -189,15 +188,6 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   {
     return true;
   }
-  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  if (backend == "Sequential" && threads != 1)
-  {
-    backend = "STDThread";
-  }
-  if (threads <= 0)
-  {
-    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  }
   this->RowLow.resize(static_cast<std::size_t>(height));
   this->RowHigh.resize(static_cast<std::size_t>(height));
   this->RowFar.resize(static_cast<std::size_t>(height));
@@ -208,7 +198,7 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   const int reducedW = ReducedSize(width, s);
   const int reducedH = ReducedSize(height, s);
   const std::size_t plane = static_cast<std::size_t>(reducedW) * reducedH;
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
+  WithThreads(threads,
     [&]()
     {
       for (Plan& plan : this->Plans)

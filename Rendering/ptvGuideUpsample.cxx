@@ -1,11 +1,10 @@
 #include "ptvGuideUpsample.h"
 
-#include "vtkSMPTools.h"
+#include "ptvThreads.h"
 
 #include <algorithm>
 #include <cstddef>
 #include <string>
-#include <thread>
 
 namespace ptv
 {
@@ -43,16 +42,7 @@ void GuideUpsampler::Run(const float* net, int netWidth, int netHeight, int stri
     Axis(width, netWidth, stride, this->X0, this->X1, this->LX);
     Axis(height, netHeight, stride, this->Y0, this->Y1, this->LY);
   }
-  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  if (backend == "Sequential" && threads != 1)
-  {
-    backend = "STDThread";
-  }
-  if (threads <= 0)
-  {
-    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  }
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false },
+  WithThreads(threads,
     [&]()
     {
       vtkSMPTools::For(0, height, 16,
