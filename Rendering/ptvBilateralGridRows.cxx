@@ -95,6 +95,54 @@ void SplatGridRowsKernel(
       const std::size_t row = static_cast<std::size_t>(y) * in.Width;
       const float* demod = in.Demodulated4 + 4 * row;
       const float* guide = in.Guides + row * stride + in.GuideOffset;
+#if PTV_GRID_WIDE
+      // Consecutive pixels that push into the same two cell pairs (same i0 and k0: up to ss of
+      // them along x where the guide is smooth) are summed in registers and added once, which
+      // breaks the store-to-load chain through memory.
+      const D8 d8;
+      const DH dh;
+      int runColumn = -1;
+      int runBin = 0;
+      auto acc0 = hn::Zero(d8);
+      auto acc1 = hn::Zero(d8);
+      const auto flush = [&]()
+      {
+        if (runColumn < 0)
+        {
+          return;
+        }
+        float* cell = s.Cells + static_cast<std::size_t>(runColumn) * columnFloats + 4 * runBin;
+        hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc0), d8, cell);
+        cell += columnFloats;
+        hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc1), d8, cell);
+        for (int c = runColumn; c <= runColumn + 1; ++c)
+        {
+          s.KMin[c] = runBin < s.KMin[c] ? runBin : s.KMin[c];
+          s.KMax[c] = runBin + 1 > s.KMax[c] ? runBin + 1 : s.KMax[c];
+        }
+      };
+      for (int x = 0; x < in.Width; ++x)
+      {
+        const float z = GuideToGrid(guide[x * stride], geo.RangeStep);
+        const int k0 = FloorToInt(z);
+        const int c0 = g.I0[x] + 1;
+        if (c0 != runColumn || k0 != runBin)
+        {
+          flush();
+          runColumn = c0;
+          runBin = k0;
+          acc0 = hn::Zero(d8);
+          acc1 = hn::Zero(d8);
+        }
+        const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
+        const auto v4 = hn::Min(hn::LoadU(dh, demod + 4 * x), hn::Load(dh, limit));
+        const auto value = hn::Combine(d8, v4, v4);
+        // (tx * ty) * tz, as the definition
+        acc0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * ty), tz), value, acc0);
+        acc1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * ty), tz), value, acc1);
+      }
+      flush();
+#else
       for (int x = 0; x < in.Width; ++x)
       {
         const float z = GuideToGrid(guide[x * stride], geo.RangeStep);
@@ -105,16 +153,6 @@ void SplatGridRowsKernel(
         const float w0 = g.Tx0[x] * ty; // (tx * ty) * tz, as the definition
         const float w1 = g.Tx1[x] * ty;
         float* cell = s.Cells + static_cast<std::size_t>(c0) * columnFloats + 4 * k0;
-#if PTV_GRID_WIDE
-        const D8 d8;
-        const DH dh;
-        const auto v4 = hn::Min(hn::LoadU(dh, demod + 4 * x), hn::Load(dh, limit));
-        const auto value = hn::Combine(d8, v4, v4);
-        const auto tz = Pair(tz0, tz1);
-        float* next = cell + columnFloats;
-        hn::StoreU(hn::MulAdd(hn::Mul(hn::Set(d8, w0), tz), value, hn::LoadU(d8, cell)), d8, cell);
-        hn::StoreU(hn::MulAdd(hn::Mul(hn::Set(d8, w1), tz), value, hn::LoadU(d8, next)), d8, next);
-#else
         HWY_ALIGN float value[4];
         ForCell([&](std::size_t o)
           { hn::Store(hn::Min(hn::LoadU(d, demod + 4 * x + o), hn::Load(d, limit + o)), d,
@@ -123,13 +161,13 @@ void SplatGridRowsKernel(
         Push(cell + 4, w0 * tz1, value);
         Push(cell + columnFloats, w1 * tz0, value);
         Push(cell + columnFloats + 4, w1 * tz1, value);
-#endif
         for (int c = c0; c <= c0 + 1; ++c)
         {
           s.KMin[c] = k0 < s.KMin[c] ? k0 : s.KMin[c];
           s.KMax[c] = k0 + 1 > s.KMax[c] ? k0 + 1 : s.KMax[c];
         }
       }
+#endif
     }
     // Normalise the touched cells of the grid's own columns into the level (the padding columns
     // and bin stay zero there) and zero the scratch again.
@@ -208,11 +246,18 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         const D8 d8;
         const DH dh;
         const auto tz = Pair(tz0, tz1);
-        auto acc = hn::Mul(hn::Mul(hn::Set(d8, w00), tz), hn::LoadU(d8, c00));
-        acc = hn::MulAdd(hn::Mul(hn::Set(d8, w10), tz), hn::LoadU(d8, c10), acc);
-        acc = hn::MulAdd(hn::Mul(hn::Set(d8, w01), tz), hn::LoadU(d8, c01), acc);
-        acc = hn::MulAdd(hn::Mul(hn::Set(d8, w11), tz), hn::LoadU(d8, c11), acc);
-        hn::Store(hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc)), dh, sum);
+        // Two independent sums (grid rows j0 and j0 + 1) halve the dependency chain.
+        auto upper = hn::Mul(hn::Mul(hn::Set(d8, w00), tz), hn::LoadU(d8, c00));
+        auto lower = hn::Mul(hn::Mul(hn::Set(d8, w01), tz), hn::LoadU(d8, c01));
+        upper = hn::MulAdd(hn::Mul(hn::Set(d8, w10), tz), hn::LoadU(d8, c10), upper);
+        lower = hn::MulAdd(hn::Mul(hn::Set(d8, w11), tz), hn::LoadU(d8, c11), lower);
+        const auto acc = hn::Add(upper, lower);
+        const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
+        hn::Store(hn::Div(total, hn::Broadcast<3>(total)), dh, sum); // (mean r, g, b, 1)
+        if (hn::GetLane(hn::Broadcast<3>(total)) > 0.f) // the kept weights; 0: all dropped
+        {
+          s[l] = MakeVec3(sum[0], sum[1], sum[2]);
+        }
 #else
         ForCell(
           [&](std::size_t o)
@@ -227,11 +272,11 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
             acc = hn::MulAdd(hn::Set(d, w11 * tz1), hn::LoadU(d, c11 + 4 + o), acc);
             hn::Store(acc, d, sum + o);
           });
-#endif
         if (sum[3] > 0.f) // the kept weights; 0 when every tap was dropped
         {
           s[l] = MakeVec3(sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3]);
         }
+#endif
       }
       const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;
       const float w1 = levels >= 2 && w ? w[0] : 0.f;
