@@ -183,6 +183,32 @@ def test_cxx_matches_python_pipeline(passes, variant_models, variant, portable) 
     assert err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
 
 
+@pytest.mark.parametrize("use_levels", [1, 2])
+def test_model_shipped_with_fewer_levels(passes, tmp_path, use_levels) -> None:
+    """export(use_levels=N): the C++ runs the model's finest N levels (the other outputs become
+    padding, the weights reordered after the guides) exactly as torch's run_model(use_levels=N)."""
+    from ptv_training.train import run_model
+    torch.manual_seed(5)
+    channels = features.VOLUME_FEATURES
+    net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8).eval()
+    path = export(net, tmp_path / "fewer.onnx", channels, levels=LEVELS, use_levels=use_levels)
+    import onnx
+    props = {p.key: p.value for p in onnx.load(str(path)).metadata_props}
+    assert props["ptv.levels"] == ",".join(f"{a}:{b}" for a, b in LEVELS[:use_levels])
+    assert len(props["ptv.outputs"].split(",")) == 8
+    ok, out, den, messages = cxx_denoise(passes, str(path))
+    assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+    assert f"{use_levels} levels" in den.GetStatus()
+    feats = torch.from_numpy(features.build_features(passes, channels))[None]
+    with torch.no_grad():
+        radiance = torch.from_numpy(passes["Radiance"]).permute(2, 0, 1)[None]
+        albedo = torch.from_numpy(passes["Albedo"]).permute(2, 0, 1)[None]
+        ref, _, _ = run_model(net, feats, radiance, albedo, LEVELS, 8.0, True, use_levels)
+    ref = ref[0].permute(1, 2, 0).numpy()
+    span = float(ref.max() - ref.min())
+    assert float(np.abs(out - ref).max()) <= 1e-4 * span
+
+
 @pytest.mark.parametrize("variant", VARIANTS, ids=lambda v: f"s{v[0]}k{v[1]}o{v[2] or 5}")
 def test_threads_give_identical_output(passes, variant_models, variant) -> None:
     path, _, _ = variant_models[variant]

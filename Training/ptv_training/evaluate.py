@@ -77,11 +77,13 @@ def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence
 
 
 def torch_denoise(model: GuideNet, channels: Sequence[str], levels, clamp: float,
-                  passes: Dict[str, np.ndarray], demodulate: bool = True) -> np.ndarray:
+                  passes: Dict[str, np.ndarray], demodulate: bool = True,
+                  use_levels: Optional[int] = None) -> np.ndarray:
     with torch.no_grad():
         f = torch.from_numpy(build_features(passes, channels))[None]
         out, _, _ = run_model(model, f, chw(passes["Radiance"])[None],
-                              chw(passes["Albedo"])[None], levels, clamp, demodulate)
+                              chw(passes["Albedo"])[None], levels, clamp, demodulate,
+                              use_levels)
     return out[0].permute(1, 2, 0).numpy()
 
 
@@ -146,6 +148,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     channels = ck["channels"]
     levels = [tuple(level) for level in ck["levels"]]
     names = required_passes(channels)
+    # A model shipped with its finest N levels only (train.py --export-levels): torch does the same.
+    import onnx
+    props = {p.key: p.value for p in onnx.load(str(args.model)).metadata_props}
+    use_levels = len(props.get("ptv.levels", "").split(",")) if "ptv.levels" in props else None
 
     rows: List[Dict[str, Any]] = []
     worst = 0.0
@@ -158,7 +164,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if not c["network_active"]:
                 raise RuntimeError(f"the network is not active: {c['status']}")
             t = torch_denoise(model, channels, levels, ck["clamp"], passes,
-                              ck.get("demodulate", True))
+                              ck.get("demodulate", True), use_levels)
             span = float(t.max() - t.min()) or 1.0
             diff = float(np.abs(c["output"] - t).max() / span)
             worst = max(worst, diff)
@@ -204,7 +210,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "parameters": count_parameters(model),
             "macs_per_pixel": macs_per_pixel(model),
             "channels": channels,
-            "levels": [list(level) for level in levels],
+            "levels": [list(level) for level in levels[:use_levels or len(levels)]],
+            "trained_levels": [list(level) for level in levels],
             "clamp": ck["clamp"],
             "demodulate": ck.get("demodulate", True),
             "training": {**run_summary(args.run), "command": info["command"],

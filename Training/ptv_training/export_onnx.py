@@ -70,10 +70,20 @@ def outputs_string(num_levels: int, out_channels: Optional[int] = None) -> str:
                     [f"pad{i}" for i in range(pads)])
 
 
+def level_order(levels: int, use_levels: int, out_channels: int) -> list:
+    """Output channel order of a model with ``levels`` levels shipped with its finest
+    ``use_levels``: guides 0..N-1, weights 0..N-2, then every other channel (unused padding)."""
+    used = list(range(use_levels)) + [levels + i for i in range(use_levels - 1)]
+    return used + [c for c in range(out_channels) if c not in used]
+
+
 def metadata(model: GuideNet, channels: Sequence[str],
              levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
-             extra_metadata: Optional[Mapping[str, str]] = None) -> Dict[str, str]:
-    """The metadata_props an export writes (after checking them against the model)."""
+             extra_metadata: Optional[Mapping[str, str]] = None,
+             use_levels: Optional[int] = None) -> Dict[str, str]:
+    """The metadata_props an export writes (after checking them against the model).
+    ``use_levels`` N < L ships the finest N levels: the grid blends s1 w1 + ... + sN (1 - sum),
+    exactly what running the model with N levels does; the other outputs become padding."""
     channels = list(channels)
     resolve_channels(channels)  # unknown names raise
     if len(channels) != model.in_channels:
@@ -84,13 +94,17 @@ def metadata(model: GuideNet, channels: Sequence[str],
         raise ValueError(f"{len(levels)} levels for a model with {model.levels}")
     if any(ss < 1 or sr < 1 for ss, sr in levels):
         raise ValueError(f"level steps must be positive: {levels}")
+    n = model.levels if use_levels is None else int(use_levels)
+    if not 1 <= n <= model.levels:
+        raise ValueError(f"use_levels must be 1..{model.levels}, got {use_levels}")
+    levels = levels[:n]
     props = {
         "ptv.format": FORMAT,
         "ptv.input_channels": ",".join(channels),
         "ptv.levels": levels_string(levels),
         "ptv.guide_scale": str(GUIDE_SCALE),
         "ptv.guide_stride": str(model.stride),
-        "ptv.outputs": outputs_string(model.levels, model.out_channels),
+        "ptv.outputs": outputs_string(n, model.out_channels),
         "ptv.architecture": ",".join(f"{k}={v}" for k, v in model.config().items()),
     }
     for key, value in (extra_metadata or {}).items():
@@ -102,13 +116,26 @@ def metadata(model: GuideNet, channels: Sequence[str],
 
 def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
            levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
-           extra_metadata: Optional[Mapping[str, str]] = None) -> Path:
+           extra_metadata: Optional[Mapping[str, str]] = None,
+           use_levels: Optional[int] = None) -> Path:
     """Write ``model.core`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the
-    path."""
-    props = metadata(model, channels, levels, extra_metadata)
+    path. ``use_levels``: ship only the finest N levels (see :func:`metadata`); the final
+    convolution's output channels are reordered so that the N - 1 weights follow the N guides."""
+    import copy
+
+    props = metadata(model, channels, levels, extra_metadata, use_levels)
     doc = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
            f"{count_parameters(model)} parameters)")
-    return _write(model.core, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
+    core = model.core
+    n = model.levels if use_levels is None else int(use_levels)
+    if n != model.levels:
+        core = copy.deepcopy(model.core)
+        last = [m for m in core if isinstance(m, torch.nn.Conv2d)][-1]
+        order = torch.tensor(level_order(model.levels, n, model.out_channels))
+        with torch.no_grad():
+            last.weight.copy_(last.weight[order])
+            last.bias.copy_(last.bias[order])
+    return _write(core, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
 
 
 def export_image_model(model: torch.nn.Module, path: str | os.PathLike,

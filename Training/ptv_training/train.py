@@ -66,15 +66,19 @@ def macs_per_pixel(model: GuideNet | UNet) -> int:
 
 
 def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Tensor,
-              albedo: torch.Tensor, levels: Sequence, clamp: float, demodulate: bool = True):
+              albedo: torch.Tensor, levels: Sequence, clamp: float, demodulate: bool = True,
+              use_levels: Optional[int] = None):
     """(denoised radiance, guides in [0, 255], weights) of a batch; an image-to-image model
-    (the U-Net baseline) gives (its output, None, None)."""
+    (the U-Net baseline) gives (its output, None, None). ``use_levels`` N: the grid uses only
+    the finest N levels (guides 0..N-1, weights 0..N-2), as the C++ does with fewer levels."""
     if isinstance(model, UNet):
         return model(features), None, None
     guides, weights = model.split(model(features))
     guides = guides * 255.0
+    n = model.levels if use_levels is None else use_levels
+    guides, weights, levels = guides[:, :n], weights[:, :n - 1], list(levels)[:n]
     out = denoise(radiance, albedo if demodulate else None, guides,
-                  weights if model.levels > 1 else None,
+                  weights if n > 1 else None,
                   levels=levels, clamp=clamp)
     return out, guides, weights
 
@@ -200,6 +204,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--seed", type=int, default=0, help="torch/numpy seed (default 0)")
     p.add_argument("--threads", type=int, default=2, help="torch threads (default 2)")
     p.add_argument("--resume", action="store_true", help="continue from <out>/last.pt")
+    p.add_argument("--export-levels", type=int, default=0,
+                   help="ship only the finest N grid levels in --export (default 0: all)")
     p.add_argument("--export", type=Path, default=None,
                    help="write the best model to this .onnx file at the end")
     p.add_argument("--no-progress", action="store_true", help="no tqdm progress bars")
@@ -363,7 +369,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             path = export_image_model(model, args.export, channels, extra_metadata=extra)
         else:
             extra["ptv.demodulate"] = "1" if args.demodulate else "0"
-            path = export(model, args.export, channels, args.levels, extra_metadata=extra)
+            path = export(model, args.export, channels, args.levels, extra_metadata=extra,
+                          use_levels=args.export_levels or None)
         print(f"exported {path} ({path.stat().st_size} bytes)")
     return 0
 
