@@ -1,5 +1,6 @@
 #include "ptvBilateralGridCpu.h"
 
+#include "ptvKernelDispatch.h"
 #include "ptvThreads.h"
 
 #include <algorithm>
@@ -31,12 +32,6 @@ void AxisTables(int n, int step, int* index, float* tent0, float* tent1)
     tent0[x] = Tent(u - static_cast<float>(i0));
     tent1[x] = Tent(u - static_cast<float>(i0 + 1));
   }
-}
-
-bool PortableFromEnvironment()
-{
-  const char* value = std::getenv("PTV_PORTABLE_KERNELS");
-  return value && std::strcmp(value, "1") == 0;
 }
 }
 
@@ -135,7 +130,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   float* out)
 {
   const int levels = ClampedLevels(settings);
-  const bool portable = settings.Portable || PortableFromEnvironment();
+  const bool portable = UsePortableKernels(settings.Portable);
   this->KernelTarget = GridKernelTarget(portable);
 
   // The splat's blocks of grid rows: one per thread, each with its own scratch row.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ptvFeatures.h"
+#include "ptvKernelDispatch.h"
 #include "ptvPassBuffers.h"
 #include "vtkPTVGuideNet.h"
 
@@ -110,7 +111,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
     this->Features.resize(channels.size() * netPixels);
     if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
-          this->Features.data(), error))
+          UsePortableKernels(settings.PortableKernels), this->Features.data(), error))
     {
       return false; // a pass the model needs is missing: the caller's input is incomplete
     }
@@ -177,7 +178,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     this->Status = "fixed guide: " + why;
     this->Features.resize(kFixedGuideChannels.size() * n);
     if (!this->FeatureMaker.Build(passes, width, height, kFixedGuideChannels, 1,
-          settings.Threads, this->Features.data(), error))
+          settings.Threads, UsePortableKernels(settings.PortableKernels), this->Features.data(), error))
     {
       return false;
     }

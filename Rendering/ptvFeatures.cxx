@@ -1,5 +1,6 @@
 #include "ptvFeatures.h"
 
+#include "ptvFeatureRows.h"
 #include "ptvPassBuffers.h"
 
 #include "ptvThreads.h"
@@ -141,6 +142,46 @@ void PoolRow(const F& f, int i, int s, int width, int height, float* out)
     out[j] = sum / area;
   }
 }
+
+/**
+ * The pooled colour feature of low-resolution row @a i: each full-resolution row of its block is
+ * copied to @a scratch (W floats), put through the power law at once, and summed in the order of
+ * PoolRow (rows, then columns of each block), then divided by the block's area.
+ */
+void GammaPooledRow(const float* src, int comps, int i, int s, int width, int height,
+  bool portable, float* scratch, float* out)
+{
+  const int reduced = ReducedSize(width, s);
+  const std::size_t w = static_cast<std::size_t>(width);
+  for (int dy = 0; dy < s; ++dy)
+  {
+    const float* line = src + static_cast<std::size_t>(std::min(s * i + dy, height - 1)) * w * comps;
+    for (std::size_t x = 0; x < w; ++x)
+    {
+      scratch[x] = line[x * comps];
+    }
+    GammaInPlace(scratch, w, portable);
+    if (s == 1)
+    {
+      std::copy(scratch, scratch + w, out);
+      return;
+    }
+    for (int j = 0; j < reduced; ++j)
+    {
+      float sum = dy == 0 ? 0.f : out[j];
+      for (int dx = 0; dx < s; ++dx)
+      {
+        sum += scratch[std::min(s * j + dx, width - 1)];
+      }
+      out[j] = sum;
+    }
+  }
+  const float area = static_cast<float>(s * s);
+  for (int j = 0; j < reduced; ++j)
+  {
+    out[j] = out[j] / area;
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -162,7 +203,7 @@ FeatureBuilder::~FeatureBuilder() = default;
 
 //------------------------------------------------------------------------------
 bool FeatureBuilder::Build(const float* const* passes, int width, int height,
-  const std::vector<std::string>& channels, int stride, int threads, float* out,
+  const std::vector<std::string>& channels, int stride, int threads, bool portable, float* out,
   std::string& error)
 {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -192,6 +233,8 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   this->RowHigh.resize(static_cast<std::size_t>(height));
   this->RowFar.resize(static_cast<std::size_t>(height));
   this->RowAny.resize(static_cast<std::size_t>(height));
+  const int blocks = ResolvedThreads(threads);
+  this->Scratch.resize(static_cast<std::size_t>(blocks) * static_cast<std::size_t>(width));
 
   // Per channel: the hit limit of its depth pass (d < 0.999 max d, features.py: hit_mask) and
   // the min / max of its values over the hits; per-row reductions, then rows in order.
@@ -264,51 +307,55 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
         r.Range = hi - lo;
       }
 
-      // The features, pooled to the network's resolution; parallel over its rows.
-      const float gamma = 1.0f / 2.2f;
-      vtkSMPTools::For(0, reducedH, 4,
-        [&](vtkIdType i0, vtkIdType i1)
+      // The features, pooled to the network's resolution; fixed blocks of its rows, each with
+      // a scratch row for the colour's power law (vectorised, ptvFeatureRows.cxx).
+      vtkSMPTools::For(0, blocks, 1,
+        [&](vtkIdType b0, vtkIdType b1)
         {
-          for (vtkIdType i = i0; i < i1; ++i)
+          for (vtkIdType b = b0; b < b1; ++b)
           {
-            for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
+            float* scratch = this->Scratch.data() + static_cast<std::size_t>(b) * width;
+            const vtkIdType first = reducedH * b / blocks;
+            const vtkIdType last = reducedH * (b + 1) / blocks;
+            for (vtkIdType i = first; i < last; ++i)
             {
-              const Channel& c = this->Plans[ci].Source;
-              const int comps = GetPassInfo(c.Pass).Components;
-              const float* src = passes[c.Pass] + c.Component;
-              float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
-              const int ii = static_cast<int>(i);
-              switch (c.What)
+              for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
               {
-                case Kind::Color:
-                  PoolRow([&](std::size_t k)
-                    { return Clip01(std::pow(std::max(src[k * comps], 0.0f), gamma)); },
-                    ii, s, width, height, row);
-                  break;
-                case Kind::Alpha:
-                case Kind::Albedo:
-                  PoolRow([&](std::size_t k) { return Clip01(src[k * comps]); }, ii, s, width,
-                    height, row);
-                  break;
-                case Kind::Normal:
-                  PoolRow([&](std::size_t k) { return Clip01((src[k * comps] + 1.0f) * 0.5f); },
-                    ii, s, width, height, row);
-                  break;
-                case Kind::Depth:
-                case Kind::Position:
+                const Channel& c = this->Plans[ci].Source;
+                const int comps = GetPassInfo(c.Pass).Components;
+                const float* src = passes[c.Pass] + c.Component;
+                float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
+                const int ii = static_cast<int>(i);
+                switch (c.What)
                 {
-                  const ChannelRange& r = this->Plans[ci].Range;
-                  PoolRow(
-                    [&](std::size_t k)
-                    {
-                      if (!(r.MaskDepth[k] < r.HitLimit))
+                  case Kind::Color:
+                    GammaPooledRow(src, comps, ii, s, width, height, portable, scratch, row);
+                    break;
+                  case Kind::Alpha:
+                  case Kind::Albedo:
+                    PoolRow([&](std::size_t k) { return Clip01(src[k * comps]); }, ii, s, width,
+                      height, row);
+                    break;
+                  case Kind::Normal:
+                    PoolRow([&](std::size_t k) { return Clip01((src[k * comps] + 1.0f) * 0.5f); },
+                      ii, s, width, height, row);
+                    break;
+                  case Kind::Depth:
+                  case Kind::Position:
+                  {
+                    const ChannelRange& r = this->Plans[ci].Range;
+                    PoolRow(
+                      [&](std::size_t k)
                       {
-                        return r.Miss;
-                      }
-                      return r.Range > 0.0f ? Clip01((src[k * comps] - r.Low) / r.Range) : 0.0f;
-                    },
-                    ii, s, width, height, row);
-                  break;
+                        if (!(r.MaskDepth[k] < r.HitLimit))
+                        {
+                          return r.Miss;
+                        }
+                        return r.Range > 0.0f ? Clip01((src[k * comps] - r.Low) / r.Range) : 0.0f;
+                      },
+                      ii, s, width, height, row);
+                    break;
+                  }
                 }
               }
             }

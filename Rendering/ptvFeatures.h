@@ -31,10 +31,11 @@ public:
    * Fill @a out (channels.size() planes of ceil(height / stride) x ceil(width / stride), planar)
    * from @a passes (indexed by PassId, interleaved, bottom row first). Returns false and names
    * the channel in @a error when a name is unknown or a needed pass is missing (nullptr).
-   * @a threads <= 0: every core.
+   * @a threads <= 0: every core. @a portable: the baseline build of the vectorised row kernel
+   * (ptvFeatureRows.h) instead of this CPU's best instruction set.
    */
   bool Build(const float* const* passes, int width, int height,
-    const std::vector<std::string>& channels, int stride, int threads, float* out,
+    const std::vector<std::string>& channels, int stride, int threads, bool portable, float* out,
     std::string& error);
 
 private:
@@ -42,6 +43,7 @@ private:
   std::vector<Plan> Plans;
   std::vector<float> RowLow, RowHigh, RowFar; // per-row reductions
   std::vector<unsigned char> RowAny;
+  std::vector<float> Scratch; // one image row per block of output rows
 };
 
 /// Whether @a name is a known feature channel.
