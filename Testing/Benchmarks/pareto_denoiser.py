@@ -38,7 +38,8 @@ def parse_args() -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", nargs="*", type=Path, default=None,
                         help="GuideNet .onnx files (default: shipped + "
-                             "<runs>/study_cpu_*/model.onnx)")
+                             "<runs>/study_cpu_*/model.onnx + the original architecture's "
+                             "run, study_ablation_paper_h20_L3)")
     parser.add_argument("--runs", type=Path, default=STUDY_RUNS,
                         help=f"study runs searched by default (default {STUDY_RUNS})")
     parser.add_argument("--datasets", nargs="+", default=["head", "stent", "concrete"])
@@ -55,9 +56,12 @@ def model_list(args: argparse.Namespace) -> List[Tuple[str, Path]]:
     """(name, path) of every model to chart."""
     paths = args.models
     if paths is None:
-        paths = [SHIPPED] + sorted(args.runs.glob("study_cpu_*/model.onnx"))
+        # the cpu study's runs, and the original architecture (the ablation's run it shares)
+        paths = [SHIPPED] + sorted(args.runs.glob("study_cpu_*/model.onnx")) + sorted(
+            args.runs.glob("study_ablation_paper_h20_L3/model.onnx"))
     return [("shipped" if p.resolve() == SHIPPED.resolve()
-             else p.parent.name.removeprefix("study_cpu_"), p) for p in paths]
+             else p.parent.name.removeprefix("study_cpu_").removeprefix("study_ablation_"), p)
+            for p in paths]
 
 
 def model_levels(path: Path) -> int:
@@ -88,7 +92,8 @@ def chart(rows: List[Dict[str, Any]], datasets: List[str], size: int, path: Path
         sel = [r for r in rows if r["dataset"] == panel]
         ours = [r for r in sel if r["method"] not in OIDN]
         for model in sorted({r["model"] for r in ours}):
-            pts = sorted((r["ms"], r["psnr"], r["levels"]) for r in ours if r["model"] == model)
+            pts = sorted(((r["ms"], r["psnr"], r["levels"]) for r in ours if r["model"] == model),
+                         key=lambda t: t[2])  # joined in level order 1, 2, 3
             ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=model)
             for ms, psnr, levels in pts:
                 ax.annotate(str(levels), (ms, psnr), fontsize=6, xytext=(2, 2),
@@ -97,6 +102,11 @@ def chart(rows: List[Dict[str, Any]], datasets: List[str], size: int, path: Path
             if r["method"] in OIDN:
                 ax.plot(r["ms"], r["psnr"], "k*" if "fast" in r["method"] else "kP", ms=9,
                         label=r["method"])
+        fast = next((r for r in sel if r["method"] == "OIDN RT fast"), None)
+        if fast:  # the targets: a tenth of OIDN fast's time, its PSNR - 0.5 dB
+            ax.axvline(fast["ms"] / 10, color="k", ls=":", lw=0.8, label="OIDN fast / 10")
+            ax.axhline(fast["psnr"] - 0.5, color="k", ls="--", lw=0.8,
+                       label="OIDN fast - 0.5 dB")
         f = front([(r["ms"], r["psnr"]) for r in ours])
         ax.plot([p[0] for p in f], [p[1] for p in f], "-", color="grey", lw=3, alpha=0.3,
                 label="front (ours)")
