@@ -7,8 +7,8 @@ from scikit-image with data_range 1, timings = median of --repeats after a warm-
 in the same run):
 
 1. Paper Table 1 per dataset (head, stent, concrete; "<Dataset> Two-Band (paper)" preset),
-   --views camera orbits each: the 1..256-spp sweep, 1 spp denoised by vtkPTVDenoiser (1 and 3
-   grid levels) and by OIDN (pyoidn RT, fast and balanced, albedo + normal) on the same 1-spp
+   --views camera orbits each: the 1..256-spp sweep, 1 spp denoised by vtkPTVDenoiser (1 grid
+   level and the model's levels, "ours") and by OIDN (pyoidn RT, fast and balanced, albedo + normal) on the same 1-spp
    passes, against a --ref-spp reference of an independent seed (convergence: ref/2 vs ref).
 2. PSNR against time per dataset and the quality-matched speed-up.
 3. Paper Tables 2-4 from the committed training studies (Training/results/), when present.
@@ -408,7 +408,7 @@ class Evaluation:
         self.scenes = Scenes(args.threads)
         self.fingerprint = tracer_fingerprint(self.scenes)
         self.cache = Cache(None if args.no_cache else args.cache, self.fingerprint)
-        self.ours = {lv: pb.Ours(lv, args.model, args.threads) for lv in (0, 1, 3)}
+        self.ours = {lv: pb.Ours(lv, args.model, args.threads) for lv in (0, 1)}
         self.results: Dict[str, Any] = {}
         self.md: List[str] = []
         self.files: List[str] = []
@@ -480,7 +480,7 @@ class Evaluation:
         summary: List[Dict[str, Any]] = []
         speedups: List[Dict[str, Any]] = []
         chart_rows: List[Dict[str, Any]] = []
-        methods = ["ours 1 level", "ours 3 levels", "OIDN fast", "OIDN balanced"]
+        methods = ["ours 1 level", "ours", "OIDN fast", "OIDN balanced"]
         for ds in tqdm(a.datasets, desc="table 1", unit="dataset"):
             quality: Dict[str, List[Tuple[float, float]]] = {}
             ref_checks = []
@@ -490,7 +490,7 @@ class Evaluation:
                 ref_checks.append(pb.quality(d["ref"], d["half"])[0])
                 images = {f"{n} spp": d[f"Radiance@{n}"] for n in counts}
                 images["ours 1 level"] = self.denoise(passes, 1)
-                images["ours 3 levels"] = self.denoise(passes, 3)
+                images["ours"] = self.denoise(passes, 0)
                 images["OIDN fast"] = pb.oidn(passes, "fast")
                 images["OIDN balanced"] = pb.oidn(passes, "balanced")
                 for name, img in images.items():
@@ -501,7 +501,7 @@ class Evaluation:
                                      "ssim": q[1], "finite": bool(np.isfinite(img).all())})
                 if v == 0:
                     self.thumbs(f"table1_{ds}", [("1 spp", images["1 spp"]),
-                                                 ("ours 3 levels", images["ours 3 levels"]),
+                                                 ("ours", images["ours"]),
                                                  ("OIDN fast", images["OIDN fast"]),
                                                  (f"{max(a.sweep)} spp",
                                                   images[f"{max(a.sweep)} spp"]),
@@ -512,11 +512,11 @@ class Evaluation:
             t_trace = self.scenes.trace_ms(spec, 3 * a.repeats)  # cheap; the load varies
             p0 = {n: self.view_data(ds, 0)[f"{n}@1"] for n in pb.PASSES}
             den = {m: pb.run_ours(p0, lv, a.model, a.repeats, a.threads)
-                   for m, lv in (("ours 1 level", 1), ("ours 3 levels", 3))}
+                   for m, lv in (("ours 1 level", 1), ("ours", 0))}
             den.update({f"OIDN {q}": pb.run_oidn(p0, q, a.repeats) for q in ("fast", "balanced")})
             self.results.setdefault("stages", {})[ds] = {
                 "trace": t_trace, **{m: {k: den[m][k] for k in pb.STAGES + ("ms",)}
-                                     for m in ("ours 1 level", "ours 3 levels")}}
+                                     for m in ("ours 1 level", "ours")}}
             rows: Dict[str, Dict[str, Any]] = {}
             for name, qs in quality.items():
                 spp = int(name.split()[0]) if name.endswith(" spp") else 1
@@ -538,7 +538,7 @@ class Evaluation:
             self.results.setdefault("reference_check", {})[ds] = ref_checks
             self.psnr_time_chart(ds, sweep, {m: rows[m] for m in methods},
                                  next(s for s in speedups
-                                      if s["dataset"] == ds and s["method"] == "ours 3 levels"))
+                                      if s["dataset"] == ds and s["method"] == "ours"))
         self.save("table1", summary)
         self.save("table1_per_view", per_view)
         self.save("speedup", speedups)
@@ -583,7 +583,7 @@ class Evaluation:
             if r["spp"] in self.args.sweep:
                 ax.annotate(f"{r['spp']}", (r["frame_ms"], r["psnr"]), fontsize=7,
                             textcoords="offset points", xytext=(-4, 6))
-        styles = {"ours 1 level": ("s", "tab:blue"), "ours 3 levels": ("D", "tab:green"),
+        styles = {"ours 1 level": ("s", "tab:blue"), "ours": ("D", "tab:green"),
                   "OIDN fast": ("^", "tab:orange"), "OIDN balanced": ("v", "tab:red")}
         for m, r in methods.items():
             mk, c = styles[m]
@@ -639,7 +639,7 @@ class Evaluation:
                    f"(gallery/table1_{ds}.png)", ""]
         md += ["## 2. PSNR against time: the quality-matched speed-up", "",
                "The charts above (one per dataset) put every method at its time per frame; "
-               "the dashed line marks the speed-up of ours (3 levels). Target: ≥ 10×; the "
+               "the dashed line marks the speed-up of ours (the model's levels). Target: ≥ 10×; the "
                "paper reports about 6×.", "",
                "Time of the smallest spp count (from the sweep and intermediate counts "
                f"{', '.join(map(str, self.counts()))}) whose PSNR reaches the denoised PSNR, "
@@ -658,10 +658,10 @@ class Evaluation:
         lines = []
         for ds in a.datasets:
             r = {x["method"]: x for x in summary if x["dataset"] == ds}
-            o, f = r["ours 3 levels"], r["OIDN fast"]
+            o, f = r["ours"], r["OIDN fast"]
             at = {n: fmt(r[f"{n} spp"]["psnr"]) if f"{n} spp" in r else "n/a" for n in (8, 16)}
             lines.append(
-                f"* {ds}: 1 spp + ours (3 levels) {o['psnr']:.2f} dB vs 8 spp {at[8]} dB and "
+                f"* {ds}: 1 spp + ours {o['psnr']:.2f} dB vs 8 spp {at[8]} dB and "
                 f"16 spp {at[16]} dB (1 spp {r['1 spp']['psnr']:.2f} dB); OIDN fast "
                 f"takes {f['denoise_ms'] / o['denoise_ms']:.1f}× our denoise time, PSNR ours − "
                 f"OIDN fast = {o['psnr'] - f['psnr']:+.2f} dB (balanced: "
@@ -1017,7 +1017,7 @@ class Evaluation:
         a = self.args
         stage_rows = []
         for ds, st in self.results.get("stages", {}).items():
-            for m in ("ours 1 level", "ours 3 levels"):
+            for m in ("ours 1 level", "ours"):
                 stage_rows.append({"dataset": ds, "method": m, "trace": st["trace"],
                                    **{k: st[m][k] for k in pb.STAGES},
                                    "denoise_total": st[m]["ms"]})
@@ -1111,7 +1111,8 @@ class Evaluation:
             md += [f"**Per stage** ({a.size}², view 0):", ""]
             md += md_table(["dataset", "levels", "trace", "features", "GuideNet", "splat",
                             "slice", "denoise total", "denoise ÷ trace"],
-                           [[r["dataset"], r["method"].replace("ours ", ""), fmt(r["trace"], 1)]
+                           [[r["dataset"], "model's" if r["method"] == "ours" else r["method"].replace("ours ", ""),
+                             fmt(r["trace"], 1)]
                             + [fmt(r[k], 1) for k in pb.STAGES]
                             + [fmt(r["denoise_total"], 1),
                                fmt(r["denoise_total"] / r["trace"], 2)] for r in stage_rows])
@@ -1237,8 +1238,8 @@ class Evaluation:
         fails = [r["case"] for r in self.results.get("stress", []) if r["failed"]]
         if headlines or "stress" in self.results:
             head += ["## Summary", ""] + headlines
-            sp = [s for s in self.results.get("speedup", []) if s["method"] == "ours 3 levels"]
-            head += ["* quality-matched speed-up (ours, 3 levels; target ≥ 10×, paper ~6×): "
+            sp = [s for s in self.results.get("speedup", []) if s["method"] == "ours"]
+            head += ["* quality-matched speed-up (ours; target ≥ 10×, paper ~6×): "
                      + ", ".join(f"{s['dataset']} {'>' if s['lower_bound'] else ''}"
                                  f"{s['speedup']:.1f}× (interpolated "
                                  f"{fmt(s['interp_speedup'], 1)}×)" for s in sp)] if sp else []
