@@ -47,6 +47,8 @@ def parse_args() -> argparse.Namespace:
     parser.add_argument("--ref-spp", type=int, default=64)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--out", type=Path, default=ROOT / "Testing" / "Benchmarks" / "results")
+    parser.add_argument("--replot", action="store_true",
+                        help="redraw <out>/denoiser_pareto.png from its .json, measuring nothing")
     parser.add_argument("--cache", type=Path,
                         default=Path(os.environ.get("PTV_CACHE_DIR", ROOT / ".cache")) / "bench")
     return parser.parse_args()
@@ -87,14 +89,19 @@ def chart(rows: List[Dict[str, Any]], datasets: List[str], size: int, path: Path
     import matplotlib.pyplot as plt
 
     panels = datasets + ["mean"]
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.2), squeeze=False)
+    models = sorted({r["model"] for r in rows if r["method"] not in OIDN})
+    colours = {m: plt.get_cmap("tab20")(i % 20) for i, m in enumerate(models)}
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.6), squeeze=False)
     for ax, panel in zip(axes[0], panels):
         sel = [r for r in rows if r["dataset"] == panel]
         ours = [r for r in sel if r["method"] not in OIDN]
-        for model in sorted({r["model"] for r in ours}):
+        for model in models:
             pts = sorted(((r["ms"], r["psnr"], r["levels"]) for r in ours if r["model"] == model),
                          key=lambda t: t[2])  # joined in level order 1, 2, 3
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=model)
+            shipped = model == "shipped"
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=7 if shipped else 4,
+                    lw=2.5 if shipped else 1, color="k" if shipped else colours[model],
+                    label=model, zorder=3 if shipped else 2)
             for ms, psnr, levels in pts:
                 ax.annotate(str(levels), (ms, psnr), fontsize=6, xytext=(2, 2),
                             textcoords="offset points")
@@ -126,6 +133,12 @@ def chart(rows: List[Dict[str, Any]], datasets: List[str], size: int, path: Path
 
 def main() -> int:
     args = parse_args()
+    if args.replot:
+        saved = json.loads((args.out / "denoiser_pareto.json").read_text())
+        datasets = list(dict.fromkeys(r["dataset"] for r in saved["rows"] if r["dataset"] != "mean"))
+        chart(saved["rows"], datasets, saved["size"], args.out / "denoiser_pareto.png")
+        print(f"redrew {args.out / 'denoiser_pareto.png'}")
+        return 0
     models = model_list(args)
     rows: List[Dict[str, Any]] = []
     for dataset in args.datasets:
