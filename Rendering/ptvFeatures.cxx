@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace ptv
 {
@@ -109,77 +110,75 @@ struct ChannelRange
   float Miss = 0.f;                 ///< value of a miss
 };
 
-/**
- * out[j] for j < ceil(W / s): the mean of f over the s x s block of low-resolution pixel (i, j),
- * pixel indices clamped to the image (s = 1: out[j] = f(i W + j)).
- */
-template <class F>
-void PoolRow(const F& f, int i, int s, int width, int height, float* out)
+/// The feature values of full-resolution row @a y of channel @a c into @a dst (W floats).
+void TransformRow(const Channel& c, const ChannelRange& r, const float* const* passes, int y,
+  int width, bool portable, float* dst)
 {
-  const std::size_t w = static_cast<std::size_t>(width);
-  if (s == 1)
+  const int comps = GetPassInfo(c.Pass).Components;
+  const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
+  const float* src = passes[c.Pass] + row * comps + c.Component;
+  switch (c.What)
   {
-    const std::size_t row = static_cast<std::size_t>(i) * w;
-    for (std::size_t j = 0; j < w; ++j)
-    {
-      out[j] = f(row + j);
-    }
-    return;
-  }
-  const int reduced = ReducedSize(width, s);
-  const float area = static_cast<float>(s * s);
-  for (int j = 0; j < reduced; ++j)
-  {
-    float sum = 0.f;
-    for (int dy = 0; dy < s; ++dy)
-    {
-      const std::size_t row = static_cast<std::size_t>(std::min(s * i + dy, height - 1)) * w;
-      for (int dx = 0; dx < s; ++dx)
+    case Kind::Color:
+      for (int x = 0; x < width; ++x)
       {
-        sum += f(row + static_cast<std::size_t>(std::min(s * j + dx, width - 1)));
+        dst[x] = src[static_cast<std::size_t>(x) * comps];
       }
+      GammaInPlace(dst, static_cast<std::size_t>(width), portable); // clip(max(v,0)^(1/2.2))
+      break;
+    case Kind::Alpha:
+    case Kind::Albedo:
+      for (int x = 0; x < width; ++x)
+      {
+        dst[x] = Clip01(src[static_cast<std::size_t>(x) * comps]);
+      }
+      break;
+    case Kind::Normal:
+      for (int x = 0; x < width; ++x)
+      {
+        dst[x] = Clip01((src[static_cast<std::size_t>(x) * comps] + 1.0f) * 0.5f);
+      }
+      break;
+    case Kind::Depth:
+    case Kind::Position:
+    {
+      const float* depth = r.MaskDepth + row;
+      for (int x = 0; x < width; ++x)
+      {
+        const float v = src[static_cast<std::size_t>(x) * comps];
+        dst[x] = !(depth[x] < r.HitLimit)
+          ? r.Miss
+          : (r.Range > 0.0f ? Clip01((v - r.Low) / r.Range) : 0.0f);
+      }
+      break;
     }
-    out[j] = sum / area;
   }
 }
 
 /**
- * The pooled colour feature of low-resolution row @a i: each full-resolution row of its block is
- * copied to @a scratch (W floats), put through the power law at once, and summed in the order of
- * PoolRow (rows, then columns of each block), then divided by the block's area.
+ * out[j] (+)= line[s j] + ... + line[s j + s - 1] (indices clamped to the row), summed in that
+ * order; @a first: out[j] starts from 0. Rows of a block added in order, then divided by s^2,
+ * give the box average the network's input is defined with (guidenet.py).
  */
-void GammaPooledRow(const float* src, int comps, int i, int s, int width, int height,
-  bool portable, float* scratch, float* out)
+void AccumulateRow(const float* line, int s, int width, bool first, float* out)
 {
   const int reduced = ReducedSize(width, s);
-  const std::size_t w = static_cast<std::size_t>(width);
-  for (int dy = 0; dy < s; ++dy)
+  int j = 0;
+  if (s == 2) // the shipped model's stride: pairs without index clamps (vectorisable)
   {
-    const float* line = src + static_cast<std::size_t>(std::min(s * i + dy, height - 1)) * w * comps;
-    for (std::size_t x = 0; x < w; ++x)
+    for (const int pairs = width / 2; j < pairs; ++j)
     {
-      scratch[x] = line[x * comps];
-    }
-    GammaInPlace(scratch, w, portable);
-    if (s == 1)
-    {
-      std::copy(scratch, scratch + w, out);
-      return;
-    }
-    for (int j = 0; j < reduced; ++j)
-    {
-      float sum = dy == 0 ? 0.f : out[j];
-      for (int dx = 0; dx < s; ++dx)
-      {
-        sum += scratch[std::min(s * j + dx, width - 1)];
-      }
-      out[j] = sum;
+      out[j] = ((first ? 0.f : out[j]) + line[2 * j]) + line[2 * j + 1];
     }
   }
-  const float area = static_cast<float>(s * s);
-  for (int j = 0; j < reduced; ++j)
+  for (; j < reduced; ++j)
   {
-    out[j] = out[j] / area;
+    float sum = first ? 0.f : out[j];
+    for (int dx = 0; dx < s; ++dx)
+    {
+      sum += line[std::min(s * j + dx, width - 1)];
+    }
+    out[j] = sum;
   }
 }
 }
@@ -261,7 +260,12 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
             for (vtkIdType y = y0; y < y1; ++y)
             {
               const float* d = depth + static_cast<std::size_t>(y) * width;
-              this->RowFar[y] = *std::max_element(d, d + width);
+              float far = d[0];
+              for (int x = 1; x < width; ++x) // branch-free: vectorisable
+              {
+                far = d[x] > far ? d[x] : far;
+              }
+              this->RowFar[y] = far;
             }
           });
         const float far = *std::max_element(this->RowFar.begin(), this->RowFar.end());
@@ -273,23 +277,21 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
           {
             for (vtkIdType y = y0; y < y1; ++y)
             {
-              float lo = 0.f, hi = 0.f;
-              bool any = false;
+              // min / max over the row's hits, branch-free (no hit: lo > hi)
+              float lo = std::numeric_limits<float>::infinity();
+              float hi = -std::numeric_limits<float>::infinity();
               for (std::size_t k = static_cast<std::size_t>(y) * width,
                                end = k + static_cast<std::size_t>(width);
                    k < end; ++k)
               {
-                if (depth[k] < r.HitLimit)
-                {
-                  const float v = src[k * comps + c.Component];
-                  lo = any ? std::min(lo, v) : v;
-                  hi = any ? std::max(hi, v) : v;
-                  any = true;
-                }
+                const float v = src[k * comps + c.Component];
+                const bool hit = depth[k] < r.HitLimit;
+                lo = hit && v < lo ? v : lo;
+                hi = hit && v > hi ? v : hi;
               }
               this->RowLow[y] = lo;
               this->RowHigh[y] = hi;
-              this->RowAny[y] = any ? 1 : 0;
+              this->RowAny[y] = lo <= hi ? 1 : 0;
             }
           });
         bool any = false;
@@ -308,7 +310,8 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
       }
 
       // The features, pooled to the network's resolution; fixed blocks of its rows, each with
-      // a scratch row for the colour's power law (vectorised, ptvFeatureRows.cxx).
+      // a scratch row: each channel's full-resolution rows are transformed there (the colour's
+      // power law vectorised, ptvFeatureRows.cxx), then pooled.
       vtkSMPTools::For(0, blocks, 1,
         [&](vtkIdType b0, vtkIdType b1)
         {
@@ -319,43 +322,26 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
             const vtkIdType last = reducedH * (b + 1) / blocks;
             for (vtkIdType i = first; i < last; ++i)
             {
+              const int ii = static_cast<int>(i);
               for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
               {
-                const Channel& c = this->Plans[ci].Source;
-                const int comps = GetPassInfo(c.Pass).Components;
-                const float* src = passes[c.Pass] + c.Component;
+                const Plan& plan = this->Plans[ci];
                 float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
-                const int ii = static_cast<int>(i);
-                switch (c.What)
+                if (s == 1)
                 {
-                  case Kind::Color:
-                    GammaPooledRow(src, comps, ii, s, width, height, portable, scratch, row);
-                    break;
-                  case Kind::Alpha:
-                  case Kind::Albedo:
-                    PoolRow([&](std::size_t k) { return Clip01(src[k * comps]); }, ii, s, width,
-                      height, row);
-                    break;
-                  case Kind::Normal:
-                    PoolRow([&](std::size_t k) { return Clip01((src[k * comps] + 1.0f) * 0.5f); },
-                      ii, s, width, height, row);
-                    break;
-                  case Kind::Depth:
-                  case Kind::Position:
-                  {
-                    const ChannelRange& r = this->Plans[ci].Range;
-                    PoolRow(
-                      [&](std::size_t k)
-                      {
-                        if (!(r.MaskDepth[k] < r.HitLimit))
-                        {
-                          return r.Miss;
-                        }
-                        return r.Range > 0.0f ? Clip01((src[k * comps] - r.Low) / r.Range) : 0.0f;
-                      },
-                      ii, s, width, height, row);
-                    break;
-                  }
+                  TransformRow(plan.Source, plan.Range, passes, ii, width, portable, row);
+                  continue;
+                }
+                for (int dy = 0; dy < s; ++dy)
+                {
+                  TransformRow(plan.Source, plan.Range, passes, std::min(s * ii + dy, height - 1),
+                    width, portable, scratch);
+                  AccumulateRow(scratch, s, width, dy == 0, row);
+                }
+                const float area = static_cast<float>(s * s);
+                for (int j = 0; j < reducedW; ++j)
+                {
+                  row[j] = row[j] / area;
                 }
               }
             }
