@@ -142,9 +142,24 @@ bool vtkPTVDenoiser::Execute()
   settings.Clamp = this->Clamp;
   settings.Threads = this->NumberOfThreads;
   settings.PortableKernels = this->PortableKernels;
-  std::vector<float> out(static_cast<std::size_t>(w) * h * 3);
+  // The result goes straight into the output's "Denoised" array, reused while the size stays
+  // (no allocation per frame); a new array is attached only after a successful run.
+  const vtkIdType pixels = static_cast<vtkIdType>(w) * h;
+  vtkSmartPointer<vtkFloatArray> result =
+    vtkFloatArray::SafeDownCast(in.Output->GetPointData()->GetArray("Denoised"));
+  int outDims[3];
+  in.Output->GetDimensions(outDims);
+  const bool reuse = result && result->GetNumberOfComponents() == 3 &&
+    result->GetNumberOfTuples() == pixels && outDims[0] == w && outDims[1] == h;
+  if (!reuse)
+  {
+    result = vtkSmartPointer<vtkFloatArray>::New();
+    result->SetName("Denoised");
+    result->SetNumberOfComponents(3);
+    result->SetNumberOfTuples(pixels);
+  }
   std::string error;
-  if (!in.Core.Run(settings, passes, w, h, out.data(), error))
+  if (!in.Core.Run(settings, passes, w, h, result->GetPointer(0), error))
   {
     vtkErrorMacro(<< error);
     return false;
@@ -156,7 +171,14 @@ bool vtkPTVDenoiser::Execute()
   }
   in.Width = w;
   in.Height = h;
-  MakeImage(in.Output, w, h, "Denoised", 3, out.data());
+  if (!reuse)
+  {
+    in.Output->Initialize();
+    in.Output->SetDimensions(w, h, 1);
+    in.Output->GetPointData()->SetScalars(result);
+  }
+  result->Modified();
+  in.Output->Modified();
   return true;
 }
 

@@ -105,7 +105,8 @@ public:
    */
   bool Execute();
 
-  /// The last result (array "Denoised", 3 components); empty before the first Execute().
+  /// The last result (array "Denoised", 3 components); empty before the first Execute(). The
+  /// array is reused (overwritten) by the next Execute() of the same size: copy it to keep it.
   vtkImageData* GetOutput();
 
   /// Guides (array "Guides", one component per level, [0, 255]) of the last Execute().
