@@ -8,8 +8,8 @@
  * older formats are refused), the file metadata and each grid descriptor, and checks that every
  * declared size fits its section, that each grid's [grid, block, end) offsets are ordered and
  * inside the file, that the grid's metadata (the contents of its delayed-load metadata included)
- * and its transform's type name fit before its data block. The topology and voxel blocks
- * themselves are not walked (see docs/reliability.md, "Known limitation").
+ * and its transform's type name fit before its data block. The topology and voxel blocks are
+ * walked separately, before OpenVDB reads them (ptvOpenVDBTree.h).
  */
 #ifndef ptvOpenVDBLayout_h
 #define ptvOpenVDBLayout_h

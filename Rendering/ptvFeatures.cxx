@@ -269,7 +269,7 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
             }
           });
         const float far = *std::max_element(this->RowFar.begin(), this->RowFar.end());
-        r.HitLimit = 0.999f * far;
+        r.HitLimit = kHitFraction * far; // IsHit(d, far), evaluated once
         const int comps = GetPassInfo(c.Pass).Components;
         const float* src = passes[c.Pass];
         vtkSMPTools::For(0, height, 32,

@@ -66,7 +66,7 @@ void Colorize(int pass, const ptv::PassBuffers& acc, const double* bounds, float
   {
     for (int i = 0; i < n; ++i)
     {
-      if (data[i] < 0.999f * far)
+      if (ptv::IsHit(data[i], far))
       {
         lo = std::min(lo, data[i]);
         hi = std::max(hi, data[i]);
@@ -84,7 +84,7 @@ void Colorize(int pass, const ptv::PassBuffers& acc, const double* bounds, float
     }
     else if (comps == 1)
     {
-      if (data[i] < 0.999f * far && hi > lo)
+      if (ptv::IsHit(data[i], far) && hi > lo)
       {
         c[0] = c[1] = c[2] = 1.0f - 0.9f * (data[i] - lo) / (hi - lo); // near = bright
       }
@@ -104,7 +104,7 @@ void Colorize(int pass, const ptv::PassBuffers& acc, const double* bounds, float
     {
       const float* v = data + 3 * i;
       const int depthPass = pass == ptv::PassPosition ? ptv::PassDepth : ptv::PassScatterDepth;
-      if (!(acc.Data(depthPass)[i] < 0.999f * far))
+      if (!ptv::IsHit(acc.Data(depthPass)[i], far))
       {
         continue; // a miss stays black (its position 0 is a real place)
       }
@@ -484,7 +484,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     for (int x = 0; x < width; ++x)
     {
       const std::size_t i = static_cast<std::size_t>(y) * width + x;
-      if (!(depth[i] < 0.999f * far))
+      if (!ptv::IsHit(depth[i], far))
       {
         continue;
       }

@@ -10,7 +10,7 @@
  * off), a point light above the volume as in the seed paper. The environment is a uniform colour
  * (default: the renderer's background).
  *
- * One frame, top-down: this class gathers frame inputs (ptvSceneBuilder) -> the CPU driver runs
+ * One frame, top-down: this class gathers frame inputs (ptvFrameInputs) -> the CPU driver runs
  * the per-pixel estimator of Kernels/ptvIntegrator.h (ptvCpuTracer, vtkSMPTools) -> the samples
  * are averaged into named passes (ptvPassBuffers) -> the chosen pass is drawn with per-pixel depth
  * (ptvDisplay). While camera, volume, transfer functions, light, viewport and opaque geometry stay
@@ -241,7 +241,7 @@ public:
   /**
    * Whether this build has the CUDA path and the machine has a usable CUDA device, and a
    * one-line report (e.g. "built without CUDA ..." or "no usable CUDA device (error 35 ...)").
-   * Frames are traced on the CPU today; the CUDA tracer uses this to choose its backend.
+   * Backend Auto traces on CUDA when this is true and on the CPU otherwise (see Backend).
    */
   static bool GetCudaAvailable();
   static const char* GetCudaStatus();
