@@ -11,7 +11,8 @@ set(ptv_filters_private_headers
   ptvEXRLayout.h
   ptvOpenVDBGrid.h
   ptvOpenVDBLayout.h
-  ptvOpenVDBTree.h)
+  ptvOpenVDBTree.h
+  ptvQuote.h)
 set(ptv_filters_sources
   ptvEXRChannels.cxx
   ptvEXRLayout.cxx

@@ -2,6 +2,7 @@
 // (see ptvOpenVDBGrid.h).
 #include "ptvOpenVDBGrid.h"
 #include "ptvOpenVDBLayout.h"
+#include "ptvQuote.h"
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/openvdb.h>
@@ -33,12 +34,6 @@ void InitializeOpenVDB()
 {
   static std::once_flag once;
   std::call_once(once, []() { openvdb::initialize(); });
-}
-
-//------------------------------------------------------------------------------
-std::string Quote(const std::string& text)
-{
-  return "'" + text + "'";
 }
 
 //------------------------------------------------------------------------------

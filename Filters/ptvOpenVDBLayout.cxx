@@ -4,6 +4,7 @@
 
 #include "ptvBoundedReader.h"
 #include "ptvOpenVDBTree.h"
+#include "ptvQuote.h"
 
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/openvdb.h>
@@ -23,12 +24,6 @@ namespace ptv
 {
 namespace
 {
-
-//------------------------------------------------------------------------------
-std::string Quote(const std::string& text)
-{
-  return "'" + text + "'";
-}
 
 //------------------------------------------------------------------------------
 // One block of io::DelayedLoadMetadata::readValue: a uint32 byte count, then either a Blosc

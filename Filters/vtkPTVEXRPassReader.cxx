@@ -2,6 +2,7 @@
 
 #include "ptvEXRChannels.h"
 #include "ptvEXRLayout.h"
+#include "ptvQuote.h"
 
 #include "vtkDataObject.h"
 #include "vtkFloatArray.h"
@@ -31,11 +32,7 @@ vtkStandardNewMacro(vtkPTVEXRPassReader);
 
 namespace
 {
-
-std::string Quote(const std::string& s)
-{
-  return "'" + s + "'";
-}
+using ptv::Quote;
 
 // "" if @a file can be opened for reading, else the OS reason.
 std::string OpenError(const std::string& file)

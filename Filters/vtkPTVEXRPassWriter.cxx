@@ -1,6 +1,7 @@
 #include "vtkPTVEXRPassWriter.h"
 
 #include "ptvEXRChannels.h"
+#include "ptvQuote.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
@@ -36,11 +37,7 @@ vtkStandardNewMacro(vtkPTVEXRPassWriter);
 
 namespace
 {
-
-std::string Quote(const std::string& s)
-{
-  return "'" + s + "'";
-}
+using ptv::Quote;
 
 std::string FolderOf(const std::string& file)
 {
