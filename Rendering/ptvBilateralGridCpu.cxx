@@ -6,10 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
-#include <cstdlib>
-#include <cstring>
 #include <limits>
-#include <string>
 
 namespace ptv
 {

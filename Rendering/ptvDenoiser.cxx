@@ -96,6 +96,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
 
   // Guides and weights: GuideNet, or the fixed guide.
   double t0 = NowMs();
+  const bool portable = UsePortableKernels(settings.PortableKernels); // features and grid
   this->NetworkActive = settings.UseNetwork && this->EnsureModel(settings);
   BilateralGridSettings grid;
   grid.Clamp = settings.Clamp;
@@ -111,7 +112,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
     this->Features.resize(channels.size() * netPixels);
     if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
-          UsePortableKernels(settings.PortableKernels), this->Features.data(), error))
+          portable, this->Features.data(), error))
     {
       return false; // a pass the model needs is missing: the caller's input is incomplete
     }
@@ -178,7 +179,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     this->Status = "fixed guide: " + why;
     this->Features.resize(kFixedGuideChannels.size() * n);
     if (!this->FeatureMaker.Build(passes, width, height, kFixedGuideChannels, 1,
-          settings.Threads, UsePortableKernels(settings.PortableKernels), this->Features.data(), error))
+          settings.Threads, portable, this->Features.data(), error))
     {
       return false;
     }
@@ -201,7 +202,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   }
 
   grid.Levels = this->Levels;
-  grid.Portable = settings.PortableKernels;
+  grid.Portable = portable;
   // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
   const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
   const float* albedo = demodulate ? passes[PassAlbedo] : nullptr;

@@ -43,11 +43,9 @@ def parse_args() -> argparse.Namespace:
     return parser.parse_args()
 
 
-def measure(p: pb.Passes, args: argparse.Namespace) -> Dict[str, Dict[str, Any]]:
-    """Every method on one frame's passes, in one run."""
+def measure(p: pb.Passes, args: argparse.Namespace, levels: int) -> Dict[str, Dict[str, Any]]:
+    """Every method on one frame's passes, in one run; ``levels``: the model's level count."""
     full = run_ours(p, 0, args.model, args.repeats)
-    levels = int(full["status"].split(" levels")[0].rsplit(" ", 1)[-1]) \
-        if " levels" in full["status"] else 3
     methods: Dict[str, Dict[str, Any]] = {"noisy 1 spp": {"ms": 0.0, "image": p["Radiance"]}}
     for count in range(1, levels):
         methods[f"ours {count} level{'s' if count > 1 else ''}"] = run_ours(
@@ -58,7 +56,6 @@ def measure(p: pb.Passes, args: argparse.Namespace) -> Dict[str, Dict[str, Any]]
         p, 0, args.model, args.repeats, portable=True)
     for q in ("fast", "balanced"):
         methods[f"OIDN RT {q}"] = run_oidn(p, q, args.repeats)
-    methods["_levels"] = {"levels": levels}
     return methods
 
 
@@ -66,12 +63,12 @@ def main() -> int:
     args = parse_args()
     rows: List[Dict[str, Any]] = []
     summary = []
+    levels = pb.model_levels(args.model)
     for dataset in args.datasets:
         for size in args.sizes:
             p = pb.bench_passes(dataset, size, args.ref_spp, args.cache)
             check = pb.quality(p["Reference"], p["Reference/2"])[0]
-            methods = measure(p, args)
-            levels = methods.pop("_levels")["levels"]
+            methods = measure(p, args, levels)
             for name, m in methods.items():
                 psnr, ssim = pb.quality(p["Reference"], m["image"])
                 rows.append({"dataset": dataset, "size": size, "method": name,

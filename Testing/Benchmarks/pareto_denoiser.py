@@ -29,7 +29,7 @@ from ptvbench import ROOT, run_oidn, run_ours  # noqa: E402
 from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 
-SHIPPED = ROOT / "Data" / "Models" / "guidenet.onnx"
+SHIPPED = pb.SHIPPED_MODEL
 STUDY_RUNS = ROOT / ".cache" / "training" / "runs"
 OIDN = ("OIDN RT fast", "OIDN RT balanced")
 
@@ -64,13 +64,6 @@ def model_list(args: argparse.Namespace) -> List[Tuple[str, Path]]:
     return [("shipped" if p.resolve() == SHIPPED.resolve()
              else p.parent.name.removeprefix("study_cpu_").removeprefix("study_ablation_"), p)
             for p in paths]
-
-
-def model_levels(path: Path) -> int:
-    """The model's number of grid levels (its ptv.levels metadata)."""
-    import onnx
-    props = {p.key: p.value for p in onnx.load(str(path), load_external_data=False).metadata_props}
-    return len(props["ptv.levels"].split(","))
 
 
 def front(points: List[Tuple[float, float]]) -> List[Tuple[float, float]]:
@@ -144,7 +137,7 @@ def main() -> int:
     for dataset in args.datasets:
         p = pb.bench_passes(dataset, args.size, args.ref_spp, args.cache)
         jobs = [(name, path, levels) for name, path in models
-                for levels in range(1, model_levels(path) + 1)]
+                for levels in range(1, pb.model_levels(path) + 1)]
         for name, path, levels in tqdm(jobs, desc=dataset, leave=False):
             m = run_ours(p, levels, str(path), args.repeats)
             if not m["status"].startswith("GuideNet"):

@@ -23,6 +23,7 @@ PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
           "ScatterDepth", "ScatterPosition", "ScatterNormal"]
 BACKGROUND = (0.32, 0.34, 0.43)
 STAGES = ("features", "guidenet", "splat", "slice")
+SHIPPED_MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"
 
 T = TypeVar("T")
 Passes = Dict[str, np.ndarray]
@@ -205,6 +206,14 @@ def bench_passes(dataset: str, size: int, ref_spp: int, cache: Path) -> Passes:
 
 
 # --- denoisers on captured passes ---------------------------------------------------------
+def model_levels(path: Union[str, Path] = "") -> int:
+    """A GuideNet model's number of grid levels (its ptv.levels metadata); "" = the shipped one."""
+    import onnx
+    model = onnx.load(str(path or SHIPPED_MODEL), load_external_data=False)
+    props = {p.key: p.value for p in model.metadata_props}
+    return len(props["ptv.levels"].split(","))
+
+
 def _image(array: np.ndarray, name: str) -> Any:
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
