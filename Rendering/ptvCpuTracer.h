@@ -4,6 +4,12 @@
  *
  * Each pixel's random stream depends on (pixel, sample index, seed) only, so the frame is
  * bit-identical whatever the number of threads or the SMP backend.
+ *
+ * Instruction sets: the estimator is compiled twice, for the x86-64 baseline (SSE2) and for
+ * x86-64-v3 (AVX2 + FMA; GCC/Clang function attributes), and the build is chosen at run time
+ * with Highway's CPU detection, like the denoiser's row kernels. A frame is bit-identical for
+ * any thread count on one machine; the two builds may differ in the last bits (FMA
+ * contraction), as the CPU and CUDA paths do. PTV_PORTABLE_KERNELS=1 forces the baseline.
  */
 #ifndef ptvCpuTracer_h
 #define ptvCpuTracer_h
@@ -22,7 +28,10 @@ class PassBuffers;
  * Debian's ParaView) it runs on "STDThread" for this frame only.
  */
 void TraceFrameCpu(const TraceParams& params, unsigned int firstSample, int samples, int threads,
-  PassBuffers& out);
+  bool portable, PassBuffers& out);
+
+/// The build TraceFrameCpu() runs with @a portable: "AVX2" or "baseline".
+const char* TracerKernelTarget(bool portable);
 }
 
 #endif

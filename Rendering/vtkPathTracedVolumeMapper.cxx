@@ -6,6 +6,7 @@
 #include "ptvDenoiser.h"
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
+#include "ptvKernelDispatch.h"
 #include "ptvPassBuffers.h"
 
 #include "vtkCamera.h"
@@ -163,6 +164,12 @@ int vtkPathTracedVolumeMapper::GetNumberOfPasses()
 const char* vtkPathTracedVolumeMapper::GetPassName(int index)
 {
   return (index >= 0 && index < ptv::PassCount) ? ptv::GetPassInfo(index).Name : nullptr;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::GetCpuKernelTarget()
+{
+  return ptv::TracerKernelTarget(ptv::UsePortableKernels(false));
 }
 
 //------------------------------------------------------------------------------
@@ -424,8 +431,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     in.BackendMessage = message;
     if (backend == ptv::BackendCpu)
     {
-      ptv::TraceFrameCpu(
-        in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads, in.Frame);
+      ptv::TraceFrameCpu(in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads,
+        ptv::UsePortableKernels(false), in.Frame);
     }
     in.ActiveBackend = backend == ptv::BackendCuda ? "CUDA" : "CPU";
     ++this->AccumulatedFrames;
@@ -597,5 +604,6 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Backend: "
      << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
      << " (last frame: " << this->Internals->ActiveBackend << ")\n";
+  os << indent << "CpuKernelTarget: " << vtkPathTracedVolumeMapper::GetCpuKernelTarget() << "\n";
   os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
 }

@@ -237,6 +237,14 @@ public:
   const char* GetActiveBackend();
   ///@}
 
+  /**
+   * The instruction set the CPU tracer runs with on this machine: "AVX2" (x86-64-v3, chosen at
+   * run time when the CPU has it) or "baseline" (SSE2; also forced by the environment variable
+   * PTV_PORTABLE_KERNELS=1). Both builds trace the same estimator; they may differ in the last
+   * bits (FMA contraction).
+   */
+  static const char* GetCpuKernelTarget();
+
   ///@{
   /**
    * Whether this build has the CUDA path and the machine has a usable CUDA device, and a
