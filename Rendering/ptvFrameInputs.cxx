@@ -225,7 +225,7 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
   this->Nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? 1 : 0;
 
   // Occupancy depends on voxels and tables.
-  this->Occupied.clear();
+  this->SkipDistance.clear();
   this->TransferSkipping = skipping;
   if (skipping)
   {
@@ -241,9 +241,9 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
     {
       this->BrickCounts[a] = (this->Dims[a] + kBrickSize - 1) / kBrickSize;
     }
-    this->Occupied.resize(static_cast<std::size_t>(this->BrickCounts[0]) * this->BrickCounts[1] *
+    this->SkipDistance.resize(static_cast<std::size_t>(this->BrickCounts[0]) * this->BrickCounts[1] *
       this->BrickCounts[2]);
-    BuildOccupancy(grid, table, kBrickSize, this->Occupied.data());
+    BuildOccupancy(grid, table, kBrickSize, this->SkipDistance.data());
   }
   this->TransferTime = property->GetMTime();
   return true;
@@ -345,9 +345,9 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   tf.GradientOpacity = this->GradientOpacity.empty() ? nullptr : this->GradientOpacity.data();
   tf.GradientSize = kGradientTableSize;
   tf.GradientMax = this->GradientMax;
-  if (settings.EmptySpaceSkipping && !this->Occupied.empty())
+  if (settings.EmptySpaceSkipping && !this->SkipDistance.empty())
   {
-    p.Occupancy.Occupied = this->Occupied.data();
+    p.Occupancy.SkipDistance = this->SkipDistance.data();
     p.Occupancy.BrickSize = kBrickSize;
     std::copy(this->BrickCounts, this->BrickCounts + 3, p.Occupancy.Bricks);
   }

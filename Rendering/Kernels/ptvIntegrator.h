@@ -53,9 +53,10 @@
  *     exit (or the light), T *= 1 - a_j with a_j corrected for the longer step. Russian
  *     roulette after each absorbing sample while T < 0.05: survive with probability 1/2 and
  *     double T, else return 0 -- unbiased (E = T) and terminating.
- *  Empty-space skipping (every march): when the current sample's brick is empty (ptvOccupancy.h),
- *  k jumps to the first sample index whose t is >= BrickExitT(); the skipped samples all have
- *  a = 0 and draw no random numbers, so results are bit-identical with and without skipping.
+ *  Empty-space skipping (every march, see March()): when the current sample's brick is empty
+ *  (ptvOccupancy.h), k jumps to the first sample index whose t is past the empty cube of bricks
+ *  around it; the skipped samples all have a = 0 and draw no random numbers, so results are
+ *  bit-identical with and without skipping.
  *  Misses and no-event fields: Normal 0, Position 0, Depth = Camera.FarDistance, Albedo 0.
  *
  * Parameter guards: StepWorld <= 0 (or NaN) renders nothing; UnitDistance <= 0 means alpha is
@@ -86,7 +87,7 @@ struct TraceParams
 {
   VolumeGrid Volume;
   TransferTable Transfer;
-  OccupancyGrid Occupancy; ///< Occupancy.Occupied == nullptr: no skipping
+  OccupancyGrid Occupancy; ///< Occupancy.SkipDistance == nullptr: no skipping
   CameraRays Camera;
   Light KeyLight;
   Vec3 Environment;      ///< uniform environment radiance
@@ -180,18 +181,64 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
   return k;
 }
 
-/// If the brick of pIdx is empty, advance k past it (to the first sample at or after the brick
-/// exit) and return true; otherwise leave k alone and return false.
-PTV_HD PTV_INLINE bool SkipEmptyBrick(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec3 pIdx,
-  float t, float tStart, float xi, float step, int kLimit, int& k)
+/**
+ * The one march every ray uses (camera, shadow and environment rays): the samples t_k =
+ * MarchSampleT(tStart, xi, step, k), k = 0, 1, ... with t_k < tEnd, in order, calling
+ * visit(t, pIdx) (pIdx = oIdx + dIdx t) for each until it returns true (stop). With an occupancy
+ * grid, samples in empty regions are skipped without a call: at a sample in an empty brick the
+ * march jumps to the first sample at or after the exit of the empty cube around it
+ * (RegionExitT); at a sample in an occupied brick it visits every sample before that brick's
+ * exit without further lookups. Skipped samples all have zero opacity and visiting one more
+ * (rounding at a brick face) only classifies a transparent sample, so the visits that matter are
+ * the same with and without skipping.
+ */
+template <class Visit>
+PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, float tStart,
+  float tEnd, float xi, float step, Visit&& visit)
 {
-  if (!occ.Occupied || !BrickEmpty(occ, pIdx))
+  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
+  int k = 0;
+  while (k < kLimit)
   {
-    return false;
+    float t = MarchSampleT(tStart, xi, step, k);
+    if (!(t < tEnd))
+    {
+      return;
+    }
+    Vec3 pIdx = oIdx + dIdx * t;
+    int kEnd = kLimit;
+    if (occ.SkipDistance)
+    {
+      int b[3];
+      BrickOf(occ, pIdx, b);
+      const int distance = SkipDistanceAt(occ, b);
+      const float tExit = RegionExitT(occ, oIdx, dIdx, t, b, distance > 0 ? distance - 1 : 0);
+      const int kExit = FirstSampleAtOrAfter(tStart, xi, step, tExit, k + 1, kLimit);
+      if (distance > 0)
+      {
+        k = kExit;
+        continue;
+      }
+      kEnd = kExit;
+    }
+    for (;;)
+    {
+      if (visit(t, pIdx))
+      {
+        return;
+      }
+      if (++k >= kEnd)
+      {
+        break;
+      }
+      t = MarchSampleT(tStart, xi, step, k);
+      if (!(t < tEnd))
+      {
+        return;
+      }
+      pIdx = oIdx + dIdx * t;
+    }
   }
-  const float tExit = BrickExitT(occ, oIdx, dIdx, t);
-  k = FirstSampleAtOrAfter(tStart, xi, step, tExit, k + 1, kLimit);
-  return true;
 }
 
 /// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
@@ -251,40 +298,31 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   }
   const float tStart = Max(tEnter, 0.f);
   const float tEnd = Min(tExit, tMax);
-  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
   float T = 1.f;
-  int k = 0;
-  while (k < kLimit)
-  {
-    const float t = MarchSampleT(tStart, xi, step, k);
-    if (!(t < tEnd))
+  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+    [&](float, Vec3 pIdx)
     {
-      break;
-    }
-    const Vec3 pIdx = oIdx + dIdx * t;
-    if (SkipEmptyBrick(p.Occupancy, oIdx, dIdx, pIdx, t, tStart, xi, step, kLimit, k))
-    {
-      continue;
-    }
-    const float a = CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
-    if (a > 0.f)
-    {
-      T *= 1.f - a;
-      if (!(T > 0.f))
+      const float a = CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
+      if (a > 0.f)
       {
-        return 0.f;
-      }
-      while (T < kRouletteThreshold)
-      {
-        if (NextFloat(rng) >= 0.5f)
+        T *= 1.f - a;
+        if (!(T > 0.f))
         {
-          return 0.f;
+          T = 0.f;
+          return true;
         }
-        T *= 2.f;
+        while (T < kRouletteThreshold)
+        {
+          if (NextFloat(rng) >= 0.5f)
+          {
+            T = 0.f;
+            return true;
+          }
+          T *= 2.f;
+        }
       }
-    }
-    ++k;
-  }
+      return false;
+    });
   return T;
 }
 
@@ -401,51 +439,40 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
   }
 
   const float stepOverUnit = StepOverUnit(p, step);
-  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
   float T = 1.f;
   bool haveFirst = false;
-  int kFirst = -1;
-  int k = 0;
-  while (k < kLimit)
-  {
-    const float t = MarchSampleT(tStart, xi, step, k);
-    if (!(t < tEnd))
+  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+    [&](float t, Vec3 pIdx)
     {
-      break;
-    }
-    const Vec3 pIdx = oIdx + dIdx * t;
-    if (SkipEmptyBrick(p.Occupancy, oIdx, dIdx, pIdx, t, tStart, xi, step, kLimit, k))
-    {
-      continue;
-    }
-    const TransferSample ts = ClassifyPoint(p, pIdx);
-    const float a = CorrectOpacity(ts.Opacity, stepOverUnit);
-    if (a > 0.f)
-    {
-      if (!haveFirst)
+      const TransferSample ts = ClassifyPoint(p, pIdx);
+      const float a = CorrectOpacity(ts.Opacity, stepOverUnit);
+      if (!(a > 0.f))
+      {
+        return false;
+      }
+      const bool first = !haveFirst;
+      if (first)
       {
         haveFirst = true;
-        kFirst = k;
         out.Depth1 = t;
         out.Position1 = origin + dir * t;
         out.Normal1 = ShadingNormal(p, pIdx, dir);
         out.Albedo = ts.Color;
       }
       T *= 1.f - a;
-      if (!p.Scattering || 1.f - T >= threshold)
+      if (p.Scattering && 1.f - T < threshold)
       {
-        const Vec3 event = origin + dir * t;
-        const Vec3 n = k == kFirst ? out.Normal1 : ShadingNormal(p, pIdx, dir);
-        out.Alpha = 1.f;
-        out.Depth2 = t;
-        out.Position2 = event;
-        out.Normal2 = n;
-        out.Radiance = ShadeEvent(p, event, dir, ts.Color, n, rng);
-        return out;
+        return false;
       }
-    }
-    ++k;
-  }
+      const Vec3 event = origin + dir * t;
+      const Vec3 n = first ? out.Normal1 : ShadingNormal(p, pIdx, dir);
+      out.Alpha = 1.f;
+      out.Depth2 = t;
+      out.Position2 = event;
+      out.Normal2 = n;
+      out.Radiance = ShadeEvent(p, event, dir, ts.Color, n, rng);
+      return true;
+    });
   return out;
 }
 

@@ -1,12 +1,13 @@
 /**
  * @file ptvOccupancy.h
- * @brief Empty-space skipping: a per-brick "may be visible" flag and the ray/brick exit query.
+ * @brief Empty-space skipping: per-brick distances to the nearest brick that may be visible, and
+ *        the ray/region exit query.
  *
  * The grid is cut into bricks of BrickSize^3 voxels in index space; brick b covers positions
  * [b B, (b+1) B) on each axis, with the outermost bricks extended to infinity (positions outside
  * the box sample the edge voxels, which belong to them). Bricks[a] = (Dims[a] - 1) / B + 1.
- * Occupied[bx + Bricks[0] * (by + Bricks[1] * bz)] is 0 only if every trilinear sample at a
- * position of the brick has zero opacity, so skipping empty bricks never changes a result.
+ * A brick is *empty* only if every trilinear sample at a position of the brick has zero
+ * opacity, so skipping empty space never changes a result.
  *
  * To guarantee that, BuildOccupancy() takes the min/max of the voxel values over the brick's
  * trilinear footprint [b B, (b+1) B] widened by a one-voxel border on every side, i.e. voxels
@@ -18,6 +19,14 @@
  * linear, so that is the maximum) is > 0; a NaN voxel adds entry 0 (conservative: NaN samples
  * are transparent). Infinite voxel values make the widened range infinite, which only makes the
  * test more conservative. Gradient opacity only scales opacity down and is ignored here.
+ *
+ * SkipDistance[bx + Bricks[0] * (by + Bricks[1] * bz)] is the Chebyshev (chessboard) distance,
+ * in bricks, from the brick to the nearest occupied one, capped at 255: 0 for an occupied brick,
+ * d >= 1 when every brick within distance d - 1 is empty. A ray in an empty brick b therefore
+ * crosses the whole cube of bricks [b - (d-1), b + (d-1)] (clipped to the grid; edge bricks still
+ * extend to infinity) in one step (RegionExitT), instead of one brick at a time. Bricks outside
+ * the grid count as empty. The distances come from the exact two-pass chamfer transform with the
+ * 26-neighbourhood and unit weights (which computes the chessboard metric exactly).
  */
 #ifndef ptvOccupancy_h
 #define ptvOccupancy_h
@@ -30,9 +39,10 @@ namespace ptv
 {
 struct OccupancyGrid
 {
-  const uint8_t* Occupied; ///< Bricks[0]*Bricks[1]*Bricks[2] flags, or nullptr (no skipping)
-  int BrickSize;           ///< voxels per brick edge (>= 1)
-  int Bricks[3];           ///< brick counts
+  /// Bricks[0]*Bricks[1]*Bricks[2] distances (0 = occupied), or nullptr (no skipping)
+  const uint8_t* SkipDistance;
+  int BrickSize; ///< voxels per brick edge (>= 1)
+  int Bricks[3]; ///< brick counts
 };
 
 /// Brick counts covering index positions [0, Dims-1]: (Dims - 1) / brickSize + 1 per axis.
@@ -51,41 +61,47 @@ PTV_HD PTV_INLINE int BrickCoordinate(float x, int brickSize, int bricks)
     Clamp(floorf(x / static_cast<float>(brickSize)), 0.f, static_cast<float>(bricks - 1)));
 }
 
-/// True when the brick containing the index-space point is marked empty.
-PTV_HD PTV_INLINE bool BrickEmpty(const OccupancyGrid& occ, Vec3 p)
+/// Brick coordinates of an index-space point (clamped to the grid).
+PTV_HD PTV_INLINE void BrickOf(const OccupancyGrid& occ, Vec3 p, int b[3])
 {
-  const int bx = BrickCoordinate(p.x, occ.BrickSize, occ.Bricks[0]);
-  const int by = BrickCoordinate(p.y, occ.BrickSize, occ.Bricks[1]);
-  const int bz = BrickCoordinate(p.z, occ.BrickSize, occ.Bricks[2]);
-  return occ.Occupied[bx + occ.Bricks[0] * (by + occ.Bricks[1] * bz)] == 0;
+  b[0] = BrickCoordinate(p.x, occ.BrickSize, occ.Bricks[0]);
+  b[1] = BrickCoordinate(p.y, occ.BrickSize, occ.Bricks[1]);
+  b[2] = BrickCoordinate(p.z, occ.BrickSize, occ.Bricks[2]);
 }
 
-/// Exit parameter on one axis of the brick slab containing coordinate x (kTMax if none).
-PTV_HD PTV_INLINE float BrickAxisExit(float x, float o, float d, int brickSize, int bricks)
+/// SkipDistance of brick b (0: occupied).
+PTV_HD PTV_INLINE int SkipDistanceAt(const OccupancyGrid& occ, const int b[3])
 {
-  const int b = BrickCoordinate(x, brickSize, bricks);
-  if (d > 0.f && b < bricks - 1)
+  return occ.SkipDistance[b[0] + occ.Bricks[0] * (b[1] + occ.Bricks[1] * b[2])];
+}
+
+/// Exit parameter on one axis of the slab of bricks [b - r, b + r] (kTMax if it has none in
+/// the direction d: the ray is parallel, or the slab reaches the grid's edge brick).
+PTV_HD PTV_INLINE float RegionAxisExit(int b, int r, float o, float d, int brickSize, int bricks)
+{
+  if (d > 0.f && b + r < bricks - 1)
   {
-    return (static_cast<float>((b + 1) * brickSize) - o) / d;
+    return (static_cast<float>((b + r + 1) * brickSize) - o) / d;
   }
-  if (d < 0.f && b > 0)
+  if (d < 0.f && b - r > 0)
   {
-    return (static_cast<float>(b * brickSize) - o) / d;
+    return (static_cast<float>((b - r) * brickSize) - o) / d;
   }
   return kTMax;
 }
 
 /**
- * Ray parameter where the index-space ray o + t d leaves the brick containing o + t d;
- * always > t (the next float above t when rounding puts the computed exit at or before t),
- * kTMax when the ray never leaves it.
+ * Ray parameter where the index-space ray o + t d leaves the cube of bricks [b - r, b + r]
+ * (r = 0: brick b itself); always > t (the next float above t when rounding puts the computed
+ * exit at or before t), kTMax when the ray never leaves it.
  */
-PTV_HD PTV_INLINE float BrickExitT(const OccupancyGrid& occ, Vec3 o, Vec3 d, float t)
+PTV_HD PTV_INLINE float RegionExitT(
+  const OccupancyGrid& occ, Vec3 o, Vec3 d, float t, const int b[3], int r)
 {
-  const Vec3 p = o + d * t;
-  const float te = fminf(BrickAxisExit(p.x, o.x, d.x, occ.BrickSize, occ.Bricks[0]),
-    fminf(BrickAxisExit(p.y, o.y, d.y, occ.BrickSize, occ.Bricks[1]),
-      BrickAxisExit(p.z, o.z, d.z, occ.BrickSize, occ.Bricks[2])));
+  const float ex = RegionAxisExit(b[0], r, o.x, d.x, occ.BrickSize, occ.Bricks[0]);
+  const float ey = RegionAxisExit(b[1], r, o.y, d.y, occ.BrickSize, occ.Bricks[1]);
+  const float ez = RegionAxisExit(b[2], r, o.z, d.z, occ.BrickSize, occ.Bricks[2]);
+  const float te = Min(ex, Min(ey, ez));
   return te > t ? te : nextafterf(t, kTMax);
 }
 
@@ -107,8 +123,56 @@ PTV_HD PTV_INLINE float MaxOpacityInRange(const TransferTable& tf, float lo, flo
 }
 
 /**
- * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] (see ComputeBrickCounts) with 1 for bricks
- * that may hold visible samples and 0 for provably empty ones; see the file comment.
+ * HOST ONLY. In place: turn flags (0 empty, else occupied) over bricks[3] into SkipDistance
+ * values (see the file comment) by a forward and a backward chamfer pass.
+ */
+inline void ChessboardDistance(const int bricks[3], uint8_t* d)
+{
+  const int nx = bricks[0], ny = bricks[1], nz = bricks[2];
+  auto at = [&](int x, int y, int z) -> uint8_t& { return d[x + nx * (y + ny * z)]; };
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        at(x, y, z) = at(x, y, z) ? 0 : 255;
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    const int s = pass == 0 ? 1 : -1; // forward: neighbours already visited lie at -1 offsets
+    for (int zi = 0; zi < nz; ++zi)
+    {
+      const int z = pass == 0 ? zi : nz - 1 - zi;
+      for (int yi = 0; yi < ny; ++yi)
+      {
+        const int y = pass == 0 ? yi : ny - 1 - yi;
+        for (int xi = 0; xi < nx; ++xi)
+        {
+          const int x = pass == 0 ? xi : nx - 1 - xi;
+          int best = at(x, y, z);
+          // The 13 neighbours that precede (x, y, z) in this pass's scan order.
+          for (int dz = -1; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx)
+              {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0)))
+                {
+                  continue;
+                }
+                const int qx = x + s * dx, qy = y + s * dy, qz = z + s * dz;
+                if (qx >= 0 && qx < nx && qy >= 0 && qy < ny && qz >= 0 && qz < nz)
+                {
+                  best = best < at(qx, qy, qz) + 1 ? best : at(qx, qy, qz) + 1;
+                }
+              }
+          at(x, y, z) = static_cast<uint8_t>(best < 255 ? best : 255);
+        }
+      }
+    }
+  }
+}
+
+/**
+ * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] (see ComputeBrickCounts) with each brick's
+ * SkipDistance: 0 for bricks that may hold visible samples, the chessboard distance to the
+ * nearest such brick for provably empty ones; see the file comment.
  */
 inline void BuildOccupancy(
   const VolumeGrid& g, const TransferTable& tf, int brickSize, uint8_t* out)
@@ -154,14 +218,15 @@ inline void BuildOccupancy(
       }
     }
   }
+  ChessboardDistance(bricks, out);
 }
 
-/// Occupancy view over a flag array built by BuildOccupancy() for g and brickSize.
+/// Occupancy view over a distance array built by BuildOccupancy() for g and brickSize.
 PTV_HD PTV_INLINE OccupancyGrid MakeOccupancyGrid(
-  const VolumeGrid& g, int brickSize, const uint8_t* occupied)
+  const VolumeGrid& g, int brickSize, const uint8_t* skipDistance)
 {
   OccupancyGrid occ;
-  occ.Occupied = occupied;
+  occ.SkipDistance = skipDistance;
   occ.BrickSize = brickSize;
   ComputeBrickCounts(g.Dims, brickSize, occ.Bricks);
   return occ;
