@@ -1,6 +1,7 @@
 #include "ptvFrameInputs.h"
 
 #include "Kernels/ptvOccupancy.h"
+#include "ptvThreads.h"
 
 #include "vtkArrayDispatch.h"
 #include "vtkCamera.h"
@@ -32,7 +33,9 @@ namespace
 {
 constexpr int kTableSize = 4096;
 constexpr int kGradientTableSize = 1024;
-constexpr int kBrickSize = 8;
+// Occupancy bricks of 4^3 voxels: measured against 8^3 (benchmark_tracer.py, 512², 1 thread)
+// 5-8% less trace time on the three datasets; the per-brick ranges cost 8 bytes per 64 voxels.
+constexpr int kBrickSize = 4;
 
 // Copy any numeric 1-component array to float, turning non-finite values into NaN ("no data")
 // and tracking the finite range.
@@ -165,6 +168,7 @@ bool FrameInputs::UpdateVolume(
   this->VolumeArray = scalars;
   this->VolumeTime = t;
   this->TransferTime = 0; // the tables span the scalar range: rebuild them
+  this->BrickRanges.clear();
   return true;
 }
 
@@ -224,7 +228,8 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
   }
   this->Nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? 1 : 0;
 
-  // Occupancy depends on voxels and tables.
+  // Occupancy: per-brick value ranges depend on the voxels only (built once per volume, in
+  // parallel); the skip distances on those ranges and the table (cheap, per table change).
   this->SkipDistance.clear();
   this->TransferSkipping = skipping;
   if (skipping)
@@ -232,18 +237,30 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
     VolumeGrid grid{};
     grid.Scalars = this->Scalars.data();
     std::copy(this->Dims, this->Dims + 3, grid.Dims);
+    ComputeBrickCounts(this->Dims, kBrickSize, this->BrickCounts);
+    const std::size_t bricks =
+      static_cast<std::size_t>(this->BrickCounts[0]) * this->BrickCounts[1] * this->BrickCounts[2];
+    if (this->BrickRanges.size() != 2 * bricks)
+    {
+      this->BrickRanges.resize(2 * bricks);
+      float* ranges = this->BrickRanges.data();
+      WithThreads(0,
+        [&]()
+        {
+          vtkSMPTools::For(0, this->BrickCounts[2], 1,
+            [&](vtkIdType z0, vtkIdType z1) {
+              BuildBrickRanges(
+                grid, kBrickSize, static_cast<int>(z0), static_cast<int>(z1), ranges);
+            });
+        });
+    }
     TransferTable table{};
     table.RGBA = this->RGBA.data();
     table.Size = kTableSize;
     table.ScalarMin = static_cast<float>(this->Range[0]);
     table.ScalarMax = static_cast<float>(this->Range[1]);
-    for (int a = 0; a < 3; ++a)
-    {
-      this->BrickCounts[a] = (this->Dims[a] + kBrickSize - 1) / kBrickSize;
-    }
-    this->SkipDistance.resize(static_cast<std::size_t>(this->BrickCounts[0]) * this->BrickCounts[1] *
-      this->BrickCounts[2]);
-    BuildOccupancy(grid, table, kBrickSize, this->SkipDistance.data());
+    this->SkipDistance.resize(bricks);
+    BuildOccupancy(table, this->BrickCounts, this->BrickRanges.data(), this->SkipDistance.data());
   }
   this->TransferTime = property->GetMTime();
   return true;

@@ -101,6 +101,7 @@ private:
   std::vector<float> GradientOpacity;
   float GradientMax = 1.0f;
   int Nearest = 0;
+  std::vector<float> BrickRanges;    ///< per brick (lo, hi) of the voxels, see ptvOccupancy.h
   std::vector<uint8_t> SkipDistance; ///< per brick, see Kernels/ptvOccupancy.h
   int BrickCounts[3] = { 0, 0, 0 };
 

@@ -35,6 +35,8 @@
 #include "ptvTransferTable.h"
 #include "ptvVolumeGrid.h"
 
+#include <vector>
+
 namespace ptv
 {
 struct OccupancyGrid
@@ -105,21 +107,55 @@ PTV_HD PTV_INLINE float RegionExitT(
   return te > t ? te : nextafterf(t, kTMax);
 }
 
-/// Largest table opacity over scalars [lo, hi] (entries inside plus interpolated end points).
-PTV_HD PTV_INLINE float MaxOpacityInRange(const TransferTable& tf, float lo, float hi)
+/**
+ * HOST ONLY. For the bricks with z coordinate in [bzBegin, bzEnd): the range of values their
+ * trilinear samples can take (see the file comment: footprint plus a one-voxel border, widened
+ * by a few ulps), ranges[2 b] = lo and ranges[2 b + 1] = hi. A footprint holding a NaN voxel gets
+ * lo = -kTMax, which makes the test include table entry 0 (NaN samples are transparent, so
+ * this is only conservative). This depends on the voxels alone: a transfer-function change
+ * reuses it (BuildOccupancy). Slabs of bz can be filled in parallel.
+ */
+inline void BuildBrickRanges(
+  const VolumeGrid& g, int brickSize, int bzBegin, int bzEnd, float* ranges)
 {
-  if (!tf.RGBA || tf.Size <= 0)
+  int bricks[3];
+  ComputeBrickCounts(g.Dims, brickSize, bricks);
+  for (int bz = bzBegin; bz < bzEnd; ++bz)
   {
-    return 0.f;
+    for (int by = 0; by < bricks[1]; ++by)
+    {
+      for (int bx = 0; bx < bricks[0]; ++bx)
+      {
+        const int b[3] = { bx, by, bz };
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          lo[a] = ClampInt(b[a] * brickSize - 1, 0, g.Dims[a] - 1);
+          hi[a] = ClampInt((b[a] + 1) * brickSize + 1, 0, g.Dims[a] - 1);
+        }
+        float vmin = kTMax;
+        float vmax = -kTMax;
+        bool hasNaN = false;
+        for (int k = lo[2]; k <= hi[2]; ++k)
+        {
+          for (int j = lo[1]; j <= hi[1]; ++j)
+          {
+            for (int i = lo[0]; i <= hi[0]; ++i)
+            {
+              const float v = VoxelValue(g, i, j, k);
+              hasNaN = hasNaN || v != v;
+              vmin = fminf(vmin, v);
+              vmax = fmaxf(vmax, v);
+            }
+          }
+        }
+        const float eps = 1e-6f * (fabsf(vmin) + fabsf(vmax)) + 1e-30f;
+        const int64_t index = bx + static_cast<int64_t>(bricks[0]) * (by + bricks[1] * bz);
+        ranges[2 * index] = hasNaN ? -kTMax : vmin - eps;
+        ranges[2 * index + 1] = vmax + eps;
+      }
+    }
   }
-  float m = fmaxf(LookupTransfer(tf, lo).Opacity, LookupTransfer(tf, hi).Opacity);
-  const float x0 = TableCoordinate(lo, tf.ScalarMin, tf.ScalarMax, tf.Size);
-  const float x1 = TableCoordinate(hi, tf.ScalarMin, tf.ScalarMax, tf.Size);
-  for (int i = static_cast<int>(ceilf(x0)); i <= static_cast<int>(floorf(x1)); ++i)
-  {
-    m = fmaxf(m, tf.RGBA[4 * i + 3]);
-  }
-  return m;
 }
 
 /**
@@ -170,53 +206,45 @@ inline void ChessboardDistance(const int bricks[3], uint8_t* d)
 }
 
 /**
- * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] (see ComputeBrickCounts) with each brick's
- * SkipDistance: 0 for bricks that may hold visible samples, the chessboard distance to the
- * nearest such brick for provably empty ones; see the file comment.
+ * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] with each brick's SkipDistance from the
+ * brick ranges of BuildBrickRanges(): 0 for bricks that may hold visible samples (the table's
+ * largest opacity over the brick's range is > 0; the table is piecewise linear, so that largest
+ * value is at an entry inside the range or at an interpolated end point), the chessboard
+ * distance to the nearest such brick for provably empty ones; see the file comment.
  */
 inline void BuildOccupancy(
-  const VolumeGrid& g, const TransferTable& tf, int brickSize, uint8_t* out)
+  const TransferTable& tf, const int bricks[3], const float* ranges, uint8_t* out)
 {
-  int bricks[3];
-  ComputeBrickCounts(g.Dims, brickSize, bricks);
-  for (int bz = 0; bz < bricks[2]; ++bz)
+  const int64_t n = static_cast<int64_t>(bricks[0]) * bricks[1] * bricks[2];
+  if (!tf.RGBA || tf.Size <= 0)
   {
-    for (int by = 0; by < bricks[1]; ++by)
+    for (int64_t b = 0; b < n; ++b)
     {
-      for (int bx = 0; bx < bricks[0]; ++bx)
-      {
-        const int b[3] = { bx, by, bz };
-        int lo[3], hi[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          lo[a] = ClampInt(b[a] * brickSize - 1, 0, g.Dims[a] - 1);
-          hi[a] = ClampInt((b[a] + 1) * brickSize + 1, 0, g.Dims[a] - 1);
-        }
-        float vmin = kTMax;
-        float vmax = -kTMax;
-        bool hasNaN = false;
-        for (int k = lo[2]; k <= hi[2]; ++k)
-        {
-          for (int j = lo[1]; j <= hi[1]; ++j)
-          {
-            for (int i = lo[0]; i <= hi[0]; ++i)
-            {
-              const float v = VoxelValue(g, i, j, k);
-              hasNaN = hasNaN || v != v;
-              vmin = fminf(vmin, v);
-              vmax = fmaxf(vmax, v);
-            }
-          }
-        }
-        const float eps = 1e-6f * (fabsf(vmin) + fabsf(vmax)) + 1e-30f;
-        float maxOpacity = vmin <= vmax ? MaxOpacityInRange(tf, vmin - eps, vmax + eps) : 0.f;
-        if (hasNaN && tf.RGBA && tf.Size > 0)
-        {
-          maxOpacity = fmaxf(maxOpacity, tf.RGBA[3]); // conservative (NaN samples are transparent)
-        }
-        out[bx + bricks[0] * (by + bricks[1] * bz)] = maxOpacity > 0.f ? 1 : 0;
-      }
+      out[b] = 0; // no table: every sample is transparent, every brick empty
     }
+    ChessboardDistance(bricks, out);
+    return;
+  }
+  // positive[i] = number of entries < i with opacity > 0: any opacity in [i0, i1] in O(1).
+  std::vector<int> positive(static_cast<std::size_t>(tf.Size) + 1);
+  positive[0] = 0;
+  for (int i = 0; i < tf.Size; ++i)
+  {
+    positive[i + 1] = positive[i] + (tf.RGBA[4 * i + 3] > 0.f ? 1 : 0);
+  }
+  for (int64_t b = 0; b < n; ++b)
+  {
+    const float lo = ranges[2 * b];
+    const float hi = ranges[2 * b + 1];
+    bool visible = false;
+    if (lo <= hi)
+    {
+      visible = LookupTransfer(tf, lo).Opacity > 0.f || LookupTransfer(tf, hi).Opacity > 0.f;
+      const int i0 = static_cast<int>(ceilf(TableCoordinate(lo, tf.ScalarMin, tf.ScalarMax, tf.Size)));
+      const int i1 = static_cast<int>(floorf(TableCoordinate(hi, tf.ScalarMin, tf.ScalarMax, tf.Size)));
+      visible = visible || (i0 <= i1 && positive[i1 + 1] - positive[i0] > 0);
+    }
+    out[b] = visible ? 1 : 0;
   }
   ChessboardDistance(bricks, out);
 }

@@ -241,7 +241,9 @@ void EnableSkipping(Scene& s, int brickSize)
   int bricks[3];
   ptv::ComputeBrickCounts(s.P.Volume.Dims, brickSize, bricks);
   s.SkipDistance.assign(static_cast<size_t>(bricks[0]) * bricks[1] * bricks[2], 0);
-  ptv::BuildOccupancy(s.P.Volume, s.P.Transfer, brickSize, s.SkipDistance.data());
+  std::vector<float> ranges(2 * s.SkipDistance.size());
+  ptv::BuildBrickRanges(s.P.Volume, brickSize, 0, bricks[2], ranges.data());
+  ptv::BuildOccupancy(s.P.Transfer, bricks, ranges.data(), s.SkipDistance.data());
   s.P.Occupancy = ptv::MakeOccupancyGrid(s.P.Volume, brickSize, s.SkipDistance.data());
 }
 
