@@ -160,11 +160,12 @@ PTV_HD PTV_INLINE int MarchSampleLimit(float tStart, float tEnd, float xi, float
   return static_cast<int>(Clamp(n, 0.f, 1073741824.f));
 }
 
-/// Smallest k in [kMin, kLimit] with MarchSampleT(k) >= tTarget (kLimit if none).
+/// Smallest k in [kMin, kLimit] with MarchSampleT(k) >= tTarget (kLimit if none); invStep =
+/// 1 / step only seeds the search, the result is exact.
 PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
-  float tStart, float xi, float step, float tTarget, int kMin, int kLimit)
+  float tStart, float xi, float step, float invStep, float tTarget, int kMin, int kLimit)
 {
-  const float estimate = ceilf((tTarget - tStart) / step - xi);
+  const float estimate = ceilf((tTarget - tStart) * invStep - xi);
   if (!(estimate < static_cast<float>(kLimit)))
   {
     return kLimit;
@@ -197,6 +198,10 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
   float tEnd, float xi, float step, Visit&& visit)
 {
   const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
+  // Reciprocals for the skipping arithmetic (per ray, not per brick).
+  const float invStep = 1.f / step;
+  const float invBrick = occ.SkipDistance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
+  const Vec3 invD = MakeVec3(1.f / dIdx.x, 1.f / dIdx.y, 1.f / dIdx.z);
   int k = 0;
   while (k < kLimit)
   {
@@ -210,10 +215,11 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
     if (occ.SkipDistance)
     {
       int b[3];
-      BrickOf(occ, pIdx, b);
+      BrickOf(occ, pIdx, invBrick, b);
       const int distance = SkipDistanceAt(occ, b);
-      const float tExit = RegionExitT(occ, oIdx, dIdx, t, b, distance > 0 ? distance - 1 : 0);
-      const int kExit = FirstSampleAtOrAfter(tStart, xi, step, tExit, k + 1, kLimit);
+      const float tExit =
+        RegionExitT(occ, oIdx, dIdx, invD, t, b, distance > 0 ? distance - 1 : 0);
+      const int kExit = FirstSampleAtOrAfter(tStart, xi, step, invStep, tExit, k + 1, kLimit);
       if (distance > 0)
       {
         k = kExit;

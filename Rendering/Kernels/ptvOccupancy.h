@@ -56,19 +56,18 @@ PTV_HD PTV_INLINE void ComputeBrickCounts(const int dims[3], int brickSize, int 
   }
 }
 
-/// Brick coordinate of an index-space coordinate (clamped; NaN -> 0).
-PTV_HD PTV_INLINE int BrickCoordinate(float x, int brickSize, int bricks)
+/// Brick coordinate of an index-space coordinate, given 1 / BrickSize (clamped; NaN -> 0).
+PTV_HD PTV_INLINE int BrickCoordinate(float x, float invBrickSize, int bricks)
 {
-  return static_cast<int>(
-    Clamp(floorf(x / static_cast<float>(brickSize)), 0.f, static_cast<float>(bricks - 1)));
+  return static_cast<int>(Clamp(floorf(x * invBrickSize), 0.f, static_cast<float>(bricks - 1)));
 }
 
-/// Brick coordinates of an index-space point (clamped to the grid).
-PTV_HD PTV_INLINE void BrickOf(const OccupancyGrid& occ, Vec3 p, int b[3])
+/// Brick coordinates of an index-space point (clamped to the grid), given 1 / BrickSize.
+PTV_HD PTV_INLINE void BrickOf(const OccupancyGrid& occ, Vec3 p, float invBrickSize, int b[3])
 {
-  b[0] = BrickCoordinate(p.x, occ.BrickSize, occ.Bricks[0]);
-  b[1] = BrickCoordinate(p.y, occ.BrickSize, occ.Bricks[1]);
-  b[2] = BrickCoordinate(p.z, occ.BrickSize, occ.Bricks[2]);
+  b[0] = BrickCoordinate(p.x, invBrickSize, occ.Bricks[0]);
+  b[1] = BrickCoordinate(p.y, invBrickSize, occ.Bricks[1]);
+  b[2] = BrickCoordinate(p.z, invBrickSize, occ.Bricks[2]);
 }
 
 /// SkipDistance of brick b (0: occupied).
@@ -77,32 +76,36 @@ PTV_HD PTV_INLINE int SkipDistanceAt(const OccupancyGrid& occ, const int b[3])
   return occ.SkipDistance[b[0] + occ.Bricks[0] * (b[1] + occ.Bricks[1] * b[2])];
 }
 
-/// Exit parameter on one axis of the slab of bricks [b - r, b + r] (kTMax if it has none in
-/// the direction d: the ray is parallel, or the slab reaches the grid's edge brick).
-PTV_HD PTV_INLINE float RegionAxisExit(int b, int r, float o, float d, int brickSize, int bricks)
+/// Exit parameter on one axis of the slab of bricks [b - r, b + r] for a ray with origin o and
+/// direction component d (invD = 1 / d); kTMax if it has none in that direction (the ray is
+/// parallel, or the slab reaches the grid's edge brick).
+PTV_HD PTV_INLINE float RegionAxisExit(
+  int b, int r, float o, float d, float invD, int brickSize, int bricks)
 {
   if (d > 0.f && b + r < bricks - 1)
   {
-    return (static_cast<float>((b + r + 1) * brickSize) - o) / d;
+    return (static_cast<float>((b + r + 1) * brickSize) - o) * invD;
   }
   if (d < 0.f && b - r > 0)
   {
-    return (static_cast<float>((b - r) * brickSize) - o) / d;
+    return (static_cast<float>((b - r) * brickSize) - o) * invD;
   }
   return kTMax;
 }
 
 /**
- * Ray parameter where the index-space ray o + t d leaves the cube of bricks [b - r, b + r]
- * (r = 0: brick b itself); always > t (the next float above t when rounding puts the computed
- * exit at or before t), kTMax when the ray never leaves it.
+ * Ray parameter where the index-space ray o + t d (invD: the component-wise reciprocals of d)
+ * leaves the cube of bricks [b - r, b + r] (r = 0: brick b itself); always > t (the next float
+ * above t when rounding puts the computed exit at or before t), kTMax when the ray never leaves
+ * it. Rounding of the exit only moves it by ulps, far inside the one-voxel border that keeps
+ * the occupancy conservative.
  */
 PTV_HD PTV_INLINE float RegionExitT(
-  const OccupancyGrid& occ, Vec3 o, Vec3 d, float t, const int b[3], int r)
+  const OccupancyGrid& occ, Vec3 o, Vec3 d, Vec3 invD, float t, const int b[3], int r)
 {
-  const float ex = RegionAxisExit(b[0], r, o.x, d.x, occ.BrickSize, occ.Bricks[0]);
-  const float ey = RegionAxisExit(b[1], r, o.y, d.y, occ.BrickSize, occ.Bricks[1]);
-  const float ez = RegionAxisExit(b[2], r, o.z, d.z, occ.BrickSize, occ.Bricks[2]);
+  const float ex = RegionAxisExit(b[0], r, o.x, d.x, invD.x, occ.BrickSize, occ.Bricks[0]);
+  const float ey = RegionAxisExit(b[1], r, o.y, d.y, invD.y, occ.BrickSize, occ.Bricks[1]);
+  const float ez = RegionAxisExit(b[2], r, o.z, d.z, invD.z, occ.BrickSize, occ.Bricks[2]);
   const float te = Min(ex, Min(ey, ez));
   return te > t ? te : nextafterf(t, kTMax);
 }
