@@ -93,19 +93,19 @@ void PassBuffers::Store(int pixel, const PixelSample& s)
 }
 
 //------------------------------------------------------------------------------
-void PassBuffers::Accumulate(const PassBuffers& frame, int count)
+void PassBuffers::Accumulate(PassBuffers& frame, int count)
 {
   const float w = 1.0f / static_cast<float>(count);
   for (int i = 0; i < kTracedPassCount; ++i)
   {
+    if (count == 1)
+    {
+      this->Buffers[i].swap(frame.Buffers[i]); // the first frame is the mean: no copy
+      continue;
+    }
     float* acc = this->Buffers[i].data();
     const float* in = frame.Buffers[i].data();
     const std::size_t n = this->Buffers[i].size();
-    if (count == 1)
-    {
-      std::copy(in, in + n, acc);
-      continue;
-    }
     for (std::size_t k = 0; k < n; ++k)
     {
       acc[k] += (in[k] - acc[k]) * w;

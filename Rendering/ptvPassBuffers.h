@@ -71,8 +71,13 @@ public:
   /// Write @a s (already averaged over the frame's samples) at pixel index @a pixel.
   void Store(int pixel, const PixelSample& s);
 
-  /// Running mean of the traced passes: this += (frame - this) / count (count >= 1).
-  void Accumulate(const PassBuffers& frame, int count);
+  /**
+   * Running mean of the traced passes: this += (frame - this) / count (count >= 1; same size).
+   * For count == 1 the buffers are swapped instead of copied (the interactive case: every frame
+   * is a first frame), which leaves @a frame's traced passes unspecified; the next trace
+   * overwrites every pixel of them.
+   */
+  void Accumulate(PassBuffers& frame, int count);
 
 private:
   int Width = 0;

@@ -8,6 +8,7 @@
 #include "ptvFrameInputs.h"
 #include "ptvKernelDispatch.h"
 #include "ptvPassBuffers.h"
+#include "ptvThreads.h"
 
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
@@ -480,34 +481,50 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     Colorize(shown, acc, in.Inputs.GetWorldBounds(), in.Params.Camera.FarDistance, in.ShownColor);
   }
 
-  // Window depth of the first event, so later geometry and picking see the volume.
+  // Window depth of the first event, so later geometry and picking see the volume. Only the
+  // last two rows of the projection matter (z and w); rows of pixels run in parallel.
   const double aspect = static_cast<double>(width) / static_cast<double>(height);
   vtkMatrix4x4* toNdc =
     ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
+  double zRow[4], wRow[4];
+  for (int c = 0; c < 4; ++c)
+  {
+    zRow[c] = toNdc->GetElement(2, c);
+    wRow[c] = toNdc->GetElement(3, c);
+  }
   const float* depth = acc.Data(ptv::PassDepth);
   const float far = in.Params.Camera.FarDistance;
-  for (int y = 0; y < height; ++y)
-  {
-    for (int x = 0; x < width; ++x)
+  const ptv::CameraRays& camera = in.Params.Camera;
+  float* shownDepth = in.ShownDepth.data();
+  ptv::WithThreads(this->NumberOfThreads,
+    [&]()
     {
-      const std::size_t i = static_cast<std::size_t>(y) * width + x;
-      if (!ptv::IsHit(depth[i], far))
-      {
-        continue;
-      }
-      ptv::Vec3 o, d;
-      ptv::GenerateRay(in.Params.Camera, x + 0.5f, y + 0.5f, o, d);
-      const ptv::Vec3 p = o + d * depth[i];
-      const double wp[4] = { p.x, p.y, p.z, 1.0 };
-      double ndc[4];
-      toNdc->MultiplyPoint(wp, ndc);
-      if (ndc[3] != 0.0)
-      {
-        const double z = 0.5 * (ndc[2] / ndc[3]) + 0.5;
-        in.ShownDepth[i] = static_cast<float>(std::min(1.0, std::max(0.0, z)));
-      }
-    }
-  }
+      vtkSMPTools::For(0, height, 16,
+        [&](vtkIdType yBegin, vtkIdType yEnd)
+        {
+          for (vtkIdType y = yBegin; y < yEnd; ++y)
+          {
+            for (int x = 0; x < width; ++x)
+            {
+              const std::size_t i = static_cast<std::size_t>(y) * width + x;
+              if (!ptv::IsHit(depth[i], far))
+              {
+                continue;
+              }
+              ptv::Vec3 o, d;
+              ptv::GenerateRay(camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
+              const ptv::Vec3 p = o + d * depth[i];
+              const double z = zRow[0] * p.x + zRow[1] * p.y + zRow[2] * p.z + zRow[3];
+              const double w = wRow[0] * p.x + wRow[1] * p.y + wRow[2] * p.z + wRow[3];
+              if (w != 0.0)
+              {
+                shownDepth[i] =
+                  static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
+              }
+            }
+          }
+        });
+    });
   in.Display.Draw(ren, width, height, in.ShownColor.data(), in.ShownDepth.data());
 }
 
