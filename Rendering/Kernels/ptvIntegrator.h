@@ -411,13 +411,14 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
   return radiance;
 }
 
-/// One Monte Carlo sample of pixel (x, y) for frame p.Frame (see the file comment).
-PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
+/// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
+/// comment; p.Frame is not read).
+PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
 {
   PixelSample out = MissSample(p.Camera.FarDistance);
   const uint32_t pixel =
     static_cast<uint32_t>(y) * static_cast<uint32_t>(p.Camera.Width) + static_cast<uint32_t>(x);
-  Rng rng = MakeRng(pixel, p.Frame, p.Seed);
+  Rng rng = MakeRng(pixel, frame, p.Seed);
   const float jx = NextFloat(rng);
   const float jy = NextFloat(rng);
   const float xi = NextFloat(rng);
@@ -482,20 +483,24 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
   return out;
 }
 
+/// One Monte Carlo sample of pixel (x, y) for frame p.Frame.
+PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y)
+{
+  return TracePixel(p, x, y, p.Frame);
+}
+
 /**
  * Mean of @a samples samples of pixel (x, y) with sample (frame) indices firstSample,
  * firstSample + 1, ...: what one frame of SamplesPerFrame stores. Both drivers (CPU, CUDA) call
  * this, so a frame is the same on either.
  */
 PTV_HD PTV_INLINE PixelSample TracePixelMean(
-  TraceParams p, uint32_t firstSample, int samples, int x, int y)
+  const TraceParams& p, uint32_t firstSample, int samples, int x, int y)
 {
-  p.Frame = firstSample;
-  PixelSample acc = TracePixel(p, x, y);
+  PixelSample acc = TracePixel(p, x, y, firstSample);
   for (int s = 1; s < samples; ++s)
   {
-    p.Frame = firstSample + static_cast<uint32_t>(s);
-    AddSample(acc, TracePixel(p, x, y));
+    AddSample(acc, TracePixel(p, x, y, firstSample + static_cast<uint32_t>(s)));
   }
   if (samples > 1)
   {

@@ -93,10 +93,17 @@ PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
   CellCoordinate(p.x, g.Dims[0], i0, i1, fx);
   CellCoordinate(p.y, g.Dims[1], j0, j1, fy);
   CellCoordinate(p.z, g.Dims[2], k0, k1, fz);
-  const float c00 = Lerp(VoxelValue(g, i0, j0, k0), VoxelValue(g, i1, j0, k0), fx);
-  const float c10 = Lerp(VoxelValue(g, i0, j1, k0), VoxelValue(g, i1, j1, k0), fx);
-  const float c01 = Lerp(VoxelValue(g, i0, j0, k1), VoxelValue(g, i1, j0, k1), fx);
-  const float c11 = Lerp(VoxelValue(g, i0, j1, k1), VoxelValue(g, i1, j1, k1), fx);
+  // The eight corners as offsets from the lower one (the same values VoxelValue() reads).
+  const int64_t row = g.Dims[0];
+  const int64_t slice = row * g.Dims[1];
+  const float* v = g.Scalars + (i0 + row * j0 + slice * k0);
+  const int64_t ox = i1 - i0;
+  const int64_t oy = row * (j1 - j0);
+  const int64_t oz = slice * (k1 - k0);
+  const float c00 = Lerp(v[0], v[ox], fx);
+  const float c10 = Lerp(v[oy], v[oy + ox], fx);
+  const float c01 = Lerp(v[oz], v[oz + ox], fx);
+  const float c11 = Lerp(v[oy + oz], v[oy + oz + ox], fx);
   return Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
 }
 
