@@ -9,18 +9,35 @@ namespace ptv
 {
 namespace
 {
-/// The rows [y0, y1) of a frame. Every kernel function is inlined into it, so each build below
-/// compiles the whole per-pixel estimator for its own instruction set.
-inline void TraceRows(const TraceParams& params, unsigned int firstSample, int samples,
-  vtkIdType y0, vtkIdType y1, PassBuffers& out)
+/// Square tiles of pixels are traced together: neighbouring rays read neighbouring voxels, and
+/// a tile's rays (camera, shadow and environment) share far more cache lines than a row's.
+constexpr int kTile = 16;
+
+int TilesAcross(const TraceParams& params)
+{
+  return (params.Camera.Width + kTile - 1) / kTile;
+}
+
+/// The tiles [t0, t1) of a frame (row-major over tiles). Every kernel function is inlined into
+/// it, so each build below compiles the whole per-pixel estimator for its own instruction set.
+inline void TraceTiles(const TraceParams& params, unsigned int firstSample, int samples,
+  vtkIdType t0, vtkIdType t1, PassBuffers& out)
 {
   const int width = params.Camera.Width;
-  for (vtkIdType y = y0; y < y1; ++y)
+  const int height = params.Camera.Height;
+  const int across = TilesAcross(params);
+  for (vtkIdType t = t0; t < t1; ++t)
   {
-    for (int x = 0; x < width; ++x)
+    const int x0 = static_cast<int>(t % across) * kTile;
+    const int y0 = static_cast<int>(t / across) * kTile;
+    const int x1 = x0 + kTile < width ? x0 + kTile : width;
+    const int y1 = y0 + kTile < height ? y0 + kTile : height;
+    for (int y = y0; y < y1; ++y)
     {
-      out.Store(static_cast<int>(y) * width + x,
-        TracePixelMean(params, firstSample, samples, x, static_cast<int>(y)));
+      for (int x = x0; x < x1; ++x)
+      {
+        out.Store(y * width + x, TracePixelMean(params, firstSample, samples, x, y));
+      }
     }
   }
 }
@@ -31,20 +48,20 @@ inline void TraceRows(const TraceParams& params, unsigned int firstSample, int s
 // estimator is scalar code; this build gains from three-operand VEX forms, FMA contraction,
 // roundss for floor/ceil and BMI address arithmetic (benchmark_tracer.py prints both builds).
 __attribute__((target("avx2,fma,bmi,bmi2,f16c,lzcnt,movbe,popcnt"), flatten)) void
-TraceRowsAvx2(const TraceParams& params, unsigned int firstSample, int samples, vtkIdType y0,
-  vtkIdType y1, PassBuffers& out)
+TraceTilesAvx2(const TraceParams& params, unsigned int firstSample, int samples, vtkIdType t0,
+  vtkIdType t1, PassBuffers& out)
 {
-  TraceRows(params, firstSample, samples, y0, y1, out);
+  TraceTiles(params, firstSample, samples, t0, t1, out);
 }
 #endif
 
-__attribute__((flatten)) void TraceRowsBaseline(const TraceParams& params,
-  unsigned int firstSample, int samples, vtkIdType y0, vtkIdType y1, PassBuffers& out)
+__attribute__((flatten)) void TraceTilesBaseline(const TraceParams& params,
+  unsigned int firstSample, int samples, vtkIdType t0, vtkIdType t1, PassBuffers& out)
 {
-  TraceRows(params, firstSample, samples, y0, y1, out);
+  TraceTiles(params, firstSample, samples, t0, t1, out);
 }
 
-using RowsFunction = void (*)(
+using TilesFunction = void (*)(
   const TraceParams&, unsigned int, int, vtkIdType, vtkIdType, PassBuffers&);
 
 bool CpuHasAvx2()
@@ -56,35 +73,37 @@ bool CpuHasAvx2()
 #endif
 }
 
-RowsFunction SelectRows(bool portable)
+TilesFunction SelectTiles(bool portable)
 {
 #ifdef PTV_TRACER_HAS_AVX2
   if (!portable && CpuHasAvx2())
   {
-    return &TraceRowsAvx2;
+    return &TraceTilesAvx2;
   }
 #endif
   (void)portable;
-  return &TraceRowsBaseline;
+  return &TraceTilesBaseline;
 }
 }
 
 //------------------------------------------------------------------------------
 const char* TracerKernelTarget(bool portable)
 {
-  return SelectRows(portable) == &TraceRowsBaseline ? "baseline" : "AVX2";
+  return SelectTiles(portable) == &TraceTilesBaseline ? "baseline" : "AVX2";
 }
 
 //------------------------------------------------------------------------------
 void TraceFrameCpu(const TraceParams& params, unsigned int firstSample, int samples, int threads,
   bool portable, PassBuffers& out)
 {
-  const RowsFunction rows = SelectRows(portable);
+  const TilesFunction trace = SelectTiles(portable);
+  const vtkIdType tiles =
+    static_cast<vtkIdType>(TilesAcross(params)) * ((params.Camera.Height + kTile - 1) / kTile);
   WithThreads(threads,
     [&]()
     {
-      vtkSMPTools::For(0, params.Camera.Height, 1,
-        [&](vtkIdType y0, vtkIdType y1) { rows(params, firstSample, samples, y0, y1, out); });
+      vtkSMPTools::For(0, tiles, 1,
+        [&](vtkIdType t0, vtkIdType t1) { trace(params, firstSample, samples, t0, t1, out); });
     });
 }
 }

@@ -1,6 +1,7 @@
 /**
  * @file ptvCpuTracer.h
- * @brief Private: the CPU driver, a vtkSMPTools loop over Kernels/ptvIntegrator.h's TracePixel.
+ * @brief Private: the CPU driver, a vtkSMPTools loop over 16x16 pixel tiles running
+ *        Kernels/ptvIntegrator.h's TracePixelMean.
  *
  * Each pixel's random stream depends on (pixel, sample index, seed) only, so the frame is
  * bit-identical whatever the number of threads or the SMP backend.
