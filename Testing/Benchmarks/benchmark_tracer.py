@@ -6,10 +6,12 @@ dataset's two-band preset), shading and camera in the same run. Each figure is t
 --repeats timed renders after one warm-up. Our frames are forced to be fresh 1-spp frames by
 changing the seed before each render (an unchanged view would only accumulate).
 
-Our mapper runs with Denoise off (the denoiser is measured by benchmark_denoiser.py).
-Reported per row: whole-render time of each mapper (window.Render(), so both include drawing),
-our trace time alone, samples (pixels) per second, the ratio ours/stock, and our 1- vs 2-thread
-trace times (scaling).
+Our mapper runs with Denoise off for the comparison (the denoiser is measured by
+benchmark_denoiser.py). Reported per row: whole-render time of each mapper (window.Render(), so
+both include drawing), our trace time alone, samples (pixels) per second, the ratio ours/stock,
+our 1- vs 2-thread trace times (scaling), the trace time of the portable baseline build
+(PTV_PORTABLE_KERNELS=1) against the dispatched one, and end to end: a fresh 1-spp frame traced,
+denoised (the shipped model) and displayed, as milliseconds and frames per second.
 """
 from __future__ import annotations
 
@@ -88,13 +90,16 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
     volume.SetMapper(ours)
     seed = [0]
     trace_ms: dict[int, list[float]] = {}
+    denoise_ms: list[float] = []
 
     def render_ours(threads: int) -> None:
+        """Render a fresh frame; threads -1 = every core, portable build (a separate key)."""
         seed[0] += 1
         ours.SetSeed(seed[0])
-        ours.SetNumberOfThreads(threads)
+        ours.SetNumberOfThreads(max(threads, 0))
         window.Render()
         trace_ms.setdefault(threads, []).append(ours.GetLastTraceTime())
+        denoise_ms.append(ours.GetLastDenoiseTime())
 
     ours_ms = median_ms(lambda: render_ours(0), repeats)
     trace_all = statistics.median(trace_ms[0][1:])
@@ -102,6 +107,17 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
     trace_1 = statistics.median(trace_ms[1][1:])
     median_ms(lambda: render_ours(2), repeats)
     trace_2 = statistics.median(trace_ms[2][1:])
+    os.environ["PTV_PORTABLE_KERNELS"] = "1"
+    try:
+        median_ms(lambda: render_ours(-1), repeats)
+    finally:
+        del os.environ["PTV_PORTABLE_KERNELS"]
+    trace_portable = statistics.median(trace_ms[-1][1:])
+    ours.DenoiseOn()
+    denoise_ms.clear()
+    end_to_end_ms = median_ms(lambda: render_ours(0), repeats)
+    denoise_median = statistics.median(denoise_ms[1:])
+    ours.DenoiseOff()
     return {
         "dataset": dataset, "size": size,
         "stock_ms": stock_ms, "ours_ms": ours_ms, "ours_trace_ms": trace_all,
@@ -109,6 +125,9 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
         "samples_per_s": size * size / (trace_all / 1000.0),
         "trace_1thread_ms": trace_1, "trace_2threads_ms": trace_2,
         "scaling_2_over_1": trace_1 / trace_2,
+        "trace_portable_ms": trace_portable, "kernel": ours.GetCpuKernelTarget(),
+        "end_to_end_ms": end_to_end_ms, "end_to_end_fps": 1000.0 / end_to_end_ms,
+        "denoise_ms": denoise_median,
     }
 
 
@@ -129,6 +148,16 @@ def main() -> int:
               f"{r['ratio']:.2f} | {r['ours_trace_ms']:.0f} | {r['samples_per_s'] / 1e6:.2f} | "
               f"{r['trace_1thread_ms']:.0f} | {r['trace_2threads_ms']:.0f} | "
               f"{r['scaling_2_over_1']:.2f} |")
+    kernel = rows[0]["kernel"] if rows else "?"
+    print(f"\ninstruction sets and end to end (1 spp traced + denoised + displayed, every core):")
+    header = ("dataset", "size", f"trace ms ({kernel})", "trace ms (baseline)", "speed-up",
+              "denoise ms", "end to end ms", "fps")
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for r in rows:
+        print(f"| {r['dataset']} | {r['size']}² | {r['ours_trace_ms']:.0f} | "
+              f"{r['trace_portable_ms']:.0f} | {r['trace_portable_ms'] / r['ours_trace_ms']:.2f} | "
+              f"{r['denoise_ms']:.0f} | {r['end_to_end_ms']:.0f} | {r['end_to_end_fps']:.1f} |")
     if args.json:
         write_text(args.json, json.dumps(rows, indent=2))
     return 0
