@@ -30,7 +30,7 @@ public:
 
   /**
    * Trace one frame like TraceFrameCpu() into @a out. Returns false with the CUDA error in
-   * @a error (the caller falls back to the CPU).
+   * @a error (ptvTracerRunner then traces on the CPU).
    */
   bool Trace(const TraceParams& params, unsigned long long volumeVersion, unsigned int firstSample,
     int samples, PassBuffers& out, std::string& error);
@@ -42,38 +42,6 @@ private:
   struct Internals;
   std::unique_ptr<Internals> Impl;
 };
-
-/// Backends of vtkPathTracedVolumeMapper::SetBackend.
-enum BackendChoice
-{
-  BackendAuto = 0,
-  BackendCpu = 1,
-  BackendCuda = 2
-};
-
-/**
- * The backend that runs for a @a requested one: CUDA when CUDA (or Auto) is requested and a
- * device is available, else the CPU. A CUDA request that cannot be honoured sets @a message
- * (the caller reports it as an error and renders on the CPU); otherwise @a message is cleared.
- */
-inline int ResolveBackend(
-  int requested, bool cudaAvailable, const std::string& cudaStatus, std::string& message)
-{
-  message.clear();
-  if (requested == BackendCpu)
-  {
-    return BackendCpu;
-  }
-  if (cudaAvailable)
-  {
-    return BackendCuda;
-  }
-  if (requested == BackendCuda)
-  {
-    message = "the CUDA backend was requested but " + cudaStatus + "; tracing on the CPU";
-  }
-  return BackendCpu;
-}
 }
 
 #endif

@@ -1,133 +1,28 @@
 #include "vtkPathTracedVolumeMapper.h"
 
-#include "ptvCpuTracer.h"
 #include "ptvCudaDevice.h"
-#include "ptvCudaTracer.h"
-#include "ptvDenoiser.h"
-#include "ptvDisplay.h"
-#include "ptvFrameInputs.h"
+#include "ptvCpuTracer.h"
+#include "ptvFrameLoop.h"
 #include "ptvKernelDispatch.h"
-#include "ptvPassBuffers.h"
-#include "ptvThreads.h"
 
-#include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
-#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkRenderWindow.h"
-#include "vtkRenderer.h"
-#include "vtkTimerLog.h"
-#include "vtkVolume.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <string>
-#include <vector>
 
 struct vtkPathTracedVolumeMapper::vtkInternals
 {
-  ptv::FrameInputs Inputs;
-  ptv::PassBuffers Frame;
-  ptv::PassBuffers Accumulated;
-  ptv::Denoiser Denoiser;
-  ptv::CudaTracer Cuda;
-  std::string ActiveBackend = "none";
-  std::string BackendMessage; // the last backend problem reported (reported once)
-  std::vector<float> DenoiseOutput;
-  bool DenoisedValid = false;       // the Denoised/Guides/BlendWeights passes match the frame
-  std::vector<std::string> DenoiseKey; // settings of the last denoise
-  ptv::Display Display;
-  ptv::TraceParams Params{};
-  ptv::FrameSignature Signature;
-  std::vector<float> ZBuffer;
-  std::vector<float> ShownColor;
-  std::vector<float> ShownDepth;
-  std::string LastError;
-  vtkIdType LastNonFinite = 0;
+  ptv::FrameLoop Loop;
 };
 
 vtkStandardNewMacro(vtkPathTracedVolumeMapper);
-
-namespace
-{
-// Colour a pass for display: opaque, [0,1], misses black.
-void Colorize(int pass, const ptv::PassBuffers& acc, const double* bounds, float far,
-  std::vector<float>& rgba)
-{
-  const int n = acc.GetWidth() * acc.GetHeight();
-  const int comps = ptv::GetPassInfo(pass).Components;
-  const float* data = acc.Data(pass);
-  float lo = std::numeric_limits<float>::max(), hi = -lo;
-  if (comps == 1 && pass != ptv::PassAlpha)
-  {
-    for (int i = 0; i < n; ++i)
-    {
-      if (ptv::IsHit(data[i], far))
-      {
-        lo = std::min(lo, data[i]);
-        hi = std::max(hi, data[i]);
-      }
-    }
-  }
-  for (int i = 0; i < n; ++i)
-  {
-    rgba[4 * i + 0] = rgba[4 * i + 1] = rgba[4 * i + 2] = 0.0f;
-    rgba[4 * i + 3] = 1.0f;
-    float c[3] = { 0, 0, 0 };
-    if (pass == ptv::PassAlpha)
-    {
-      c[0] = c[1] = c[2] = data[i];
-    }
-    else if (comps == 1)
-    {
-      if (ptv::IsHit(data[i], far) && hi > lo)
-      {
-        c[0] = c[1] = c[2] = 1.0f - 0.9f * (data[i] - lo) / (hi - lo); // near = bright
-      }
-    }
-    else if (pass == ptv::PassNormal || pass == ptv::PassScatterNormal)
-    {
-      const float* v = data + 3 * i;
-      if (v[0] != 0.0f || v[1] != 0.0f || v[2] != 0.0f)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          c[k] = 0.5f * v[k] + 0.5f;
-        }
-      }
-    }
-    else if (pass == ptv::PassPosition || pass == ptv::PassScatterPosition)
-    {
-      const float* v = data + 3 * i;
-      const int depthPass = pass == ptv::PassPosition ? ptv::PassDepth : ptv::PassScatterDepth;
-      if (!ptv::IsHit(acc.Data(depthPass)[i], far))
-      {
-        continue; // a miss stays black (its position 0 is a real place)
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        const double extent = bounds[2 * k + 1] - bounds[2 * k];
-        c[k] = extent > 0 ? static_cast<float>((v[k] - bounds[2 * k]) / extent) : 0.0f;
-      }
-    }
-    else
-    {
-      std::copy(data + 3 * i, data + 3 * i + 3, c);
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      rgba[4 * i + k] = std::min(1.0f, std::max(0.0f, c[k]));
-    }
-    rgba[4 * i + 3] = 1.0f;
-  }
-}
-}
 
 //------------------------------------------------------------------------------
 vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
@@ -145,7 +40,7 @@ vtkPathTracedVolumeMapper::~vtkPathTracedVolumeMapper()
 //------------------------------------------------------------------------------
 const char* vtkPathTracedVolumeMapper::GetDenoiserStatus()
 {
-  return this->Internals->Denoiser.GetStatus().c_str();
+  return this->Internals->Loop.GetDenoiserStatus().c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -176,7 +71,7 @@ const char* vtkPathTracedVolumeMapper::GetCpuKernelTarget()
 //------------------------------------------------------------------------------
 const char* vtkPathTracedVolumeMapper::GetActiveBackend()
 {
-  return this->Internals->ActiveBackend.c_str();
+  return this->Internals->Loop.GetActiveBackend().c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -195,7 +90,7 @@ const char* vtkPathTracedVolumeMapper::GetCudaStatus()
 void vtkPathTracedVolumeMapper::ResetAccumulation()
 {
   this->AccumulatedFrames = 0;
-  this->Internals->Signature.Clear();
+  this->Internals->Loop.ResetAccumulation();
 }
 
 //------------------------------------------------------------------------------
@@ -217,13 +112,13 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
     vtkErrorMacro(<< "Pass '" << name << "' is not available before the first render.");
     return false;
   }
-  if (pass >= ptv::kTracedPassCount && !this->Internals->DenoisedValid)
+  if (pass >= ptv::kTracedPassCount && !this->Internals->Loop.GetDenoisedValid())
   {
     vtkErrorMacro(<< "Pass '" << name << "' is produced by the denoiser; turn Denoise on and "
                   << "render first.");
     return false;
   }
-  const ptv::PassBuffers& acc = this->Internals->Accumulated;
+  const ptv::PassBuffers& acc = this->Internals->Loop.GetPasses();
   const int comps = ptv::GetPassInfo(pass).Components;
   const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
   vtkNew<vtkFloatArray> array;
@@ -252,7 +147,7 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
     vtkErrorMacro(<< "Passes are not available before the first render.");
     return false;
   }
-  const ptv::PassBuffers& acc = this->Internals->Accumulated;
+  const ptv::PassBuffers& acc = this->Internals->Loop.GetPasses();
   const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
   output->Initialize();
   output->SetDimensions(acc.GetWidth(), acc.GetHeight(), 1);
@@ -260,7 +155,7 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   output->SetSpacing(1, 1, 1);
   for (int pass = 0; pass < ptv::PassCount; ++pass)
   {
-    if (pass >= ptv::kTracedPassCount && !this->Internals->DenoisedValid)
+    if (pass >= ptv::kTracedPassCount && !this->Internals->Loop.GetDenoisedValid())
     {
       continue;
     }
@@ -280,14 +175,10 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
 double* vtkPathTracedVolumeMapper::GetBounds()
 {
   double* bounds = this->Superclass::GetBounds();
-  std::string& last = this->Internals->LastError;
   const bool finite = std::all_of(bounds, bounds + 6, [](double v) { return std::isfinite(v); });
   if (finite)
   {
-    if (last.rfind("non-finite", 0) == 0)
-    {
-      last.clear(); // the input was fixed: a later error is reported again
-    }
+    this->Internals->Loop.ReportOnce("", "non-finite"); // fixed: a later error is new again
     return bounds;
   }
   std::ostringstream msg;
@@ -311,10 +202,9 @@ double* vtkPathTracedVolumeMapper::GetBounds()
         << ", " << bounds[3] << ", " << bounds[4] << ", " << bounds[5]
         << "): nothing is rendered";
   }
-  if (msg.str() != last)
+  if (this->Internals->Loop.ReportOnce(msg.str()))
   {
     vtkErrorMacro(<< msg.str());
-    last = msg.str();
   }
   return bounds;
 }
@@ -322,273 +212,63 @@ double* vtkPathTracedVolumeMapper::GetBounds()
 //------------------------------------------------------------------------------
 void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
-  vtkInternals& in = *this->Internals;
-  this->LastRenderTraced = false;
-  this->LastTraceTime = 0.0;
-  this->LastDenoiseTime = 0.0;
-  auto report = [this, &in](const std::string& error)
+  ptv::FrameLoop& loop = this->Internals->Loop;
+  if (ren && vol)
   {
-    if (error != in.LastError)
+    if (vtkAlgorithm* producer = this->GetInputAlgorithm())
     {
-      vtkErrorMacro(<< error);
-      in.LastError = error;
+      producer->Update();
     }
-  };
+    vtkImageData* image = vtkImageData::SafeDownCast(this->GetInput());
+    int cellFlag = 0;
+    vtkDataArray* scalars = image ? this->GetScalars(image, this->ScalarMode,
+                                      this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+                                  : nullptr;
+    ptv::FrameRequest request;
+    ptv::FrameSettings& scene = request.Scene;
+    scene.Seed = this->Seed;
+    scene.SamplesPerFrame = this->SamplesPerFrame;
+    scene.Scattering = this->Scattering;
+    scene.AmbientOcclusion = this->AmbientOcclusion;
+    scene.UseRendererLight = this->UseRendererLight;
+    scene.LightIntensity = this->LightIntensity;
+    std::copy(this->EnvironmentColor, this->EnvironmentColor + 3, scene.EnvironmentColor);
+    scene.UseBackgroundAsEnvironment = this->UseBackgroundAsEnvironment;
+    scene.EnvironmentIntensity = this->EnvironmentIntensity;
+    scene.EmptySpaceSkipping = this->EmptySpaceSkipping;
+    request.MaximumAccumulatedFrames = this->MaximumAccumulatedFrames;
+    request.Threads = this->NumberOfThreads;
+    request.Backend = this->Backend;
+    request.Denoise = this->Denoise;
+    request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
+    request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
+    request.Denoiser.Levels = this->DenoiserNumberOfLevels;
+    request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
 
-  if (!ren || !vol)
-  {
-    return;
-  }
-  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
-  {
-    producer->Update();
-  }
-  vtkImageData* image = vtkImageData::SafeDownCast(this->GetInput());
-  int cellFlag = 0;
-  vtkDataArray* scalars = image ? this->GetScalars(image, this->ScalarMode, this->ArrayAccessMode,
-                                    this->ArrayId, this->ArrayName, cellFlag)
-                                : nullptr;
-  std::string error;
-  if (scalars && cellFlag)
-  {
-    report("cell scalars are not supported; convert them with vtkCellDataToPointData");
-    return;
-  }
-  vtkIdType nonFinite = 0;
-  if (!in.Inputs.UpdateVolume(image, scalars, error, nonFinite) ||
-    !in.Inputs.UpdateTransfer(vol->GetProperty(), this->EmptySpaceSkipping, error))
-  {
-    report(error);
-    return;
-  }
-  if (nonFinite > 0 && nonFinite != in.LastNonFinite)
-  {
-    vtkWarningMacro(<< nonFinite << " voxels are NaN or infinite; they are rendered transparent.");
-  }
-  in.LastNonFinite = nonFinite;
-
-  int width = 0, height = 0, x0 = 0, y0 = 0;
-  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
-  if (width <= 0 || height <= 0)
-  {
-    return; // a zero-size viewport shows nothing; not an error
-  }
-
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  in.ZBuffer.resize(pixels);
-  if (!ptv::Display::ReadDepth(ren, x0, y0, width, height, in.ZBuffer.data()))
-  {
-    in.ZBuffer.clear(); // no opaque-geometry clipping this frame
-  }
-
-  ptv::FrameSettings settings;
-  settings.Seed = this->Seed;
-  settings.SamplesPerFrame = this->SamplesPerFrame;
-  settings.Scattering = this->Scattering;
-  settings.AmbientOcclusion = this->AmbientOcclusion;
-  settings.UseRendererLight = this->UseRendererLight;
-  settings.LightIntensity = this->LightIntensity;
-  std::copy(this->EnvironmentColor, this->EnvironmentColor + 3, settings.EnvironmentColor);
-  settings.UseBackgroundAsEnvironment = this->UseBackgroundAsEnvironment;
-  settings.EnvironmentIntensity = this->EnvironmentIntensity;
-  settings.EmptySpaceSkipping = this->EmptySpaceSkipping;
-
-  ptv::FrameSignature signature;
-  if (!in.Inputs.Build(ren, vol, image, settings, width, height, in.ZBuffer, in.Params, signature,
-        error))
-  {
-    report(error);
-    return;
-  }
-  in.LastError.clear();
-  if (!signature.Matches(in.Signature)) // compared with the frame that started the accumulation,
-  {                                       // so slow drifts cannot pile up unnoticed
-    this->AccumulatedFrames = 0;
-    in.Signature = std::move(signature);
-  }
-
-  if (this->AccumulatedFrames < this->MaximumAccumulatedFrames)
-  {
-    const double start = vtkTimerLog::GetUniversalTime();
-    in.Frame.Resize(width, height);
-    in.Accumulated.Resize(width, height);
-    const unsigned int firstSample =
-      static_cast<unsigned int>(this->AccumulatedFrames) * this->SamplesPerFrame;
-    std::string message;
-    int backend = ptv::ResolveBackend(this->Backend,
-      vtkPathTracedVolumeMapper::GetCudaAvailable(), vtkPathTracedVolumeMapper::GetCudaStatus(),
-      message);
-    if (backend == ptv::BackendCuda &&
-      !in.Cuda.Trace(in.Params, in.Inputs.GetVolumeVersion(), firstSample,
-        this->SamplesPerFrame, in.Frame, message))
+    ptv::FrameMessages messages;
+    loop.Render(ren, vol, image, scalars, cellFlag != 0, request, messages);
+    for (const auto& message : messages)
     {
-      message = "CUDA tracing failed (" + message + "); tracing on the CPU";
-      backend = ptv::BackendCpu;
-    }
-    if (!message.empty() && message != in.BackendMessage)
-    {
-      vtkErrorMacro(<< message);
-    }
-    in.BackendMessage = message;
-    if (backend == ptv::BackendCpu)
-    {
-      ptv::TraceFrameCpu(in.Params, firstSample, this->SamplesPerFrame, this->NumberOfThreads,
-        ptv::UsePortableKernels(false), in.Frame);
-    }
-    in.ActiveBackend = backend == ptv::BackendCuda ? "CUDA" : "CPU";
-    ++this->AccumulatedFrames;
-    in.Accumulated.Accumulate(in.Frame, this->AccumulatedFrames);
-    this->LastTraceTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
-    this->LastRenderTraced = true;
-    in.DenoisedValid = false;
-  }
-  if (this->Denoise)
-  {
-    this->DenoiseFrame(width, height);
-  }
-
-  // What to show: the (denoised) radiance, premultiplied and blended, or a colourised pass.
-  int shown = this->Denoise && in.DenoisedValid ? ptv::PassDenoised : ptv::PassRadiance;
-  if (this->DisplayPass && *this->DisplayPass)
-  {
-    shown = ptv::FindPass(this->DisplayPass);
-    if (shown < 0)
-    {
-      report(std::string("unknown DisplayPass '") + this->DisplayPass + "'; showing Radiance");
-      shown = ptv::PassRadiance;
-    }
-    else if (shown >= ptv::kTracedPassCount && !in.DenoisedValid)
-    {
-      report(std::string("DisplayPass '") + this->DisplayPass + "' needs Denoise on");
-      shown = ptv::PassRadiance;
+      if (message.first)
+      {
+        vtkErrorMacro(<< message.second);
+      }
+      else
+      {
+        vtkWarningMacro(<< message.second);
+      }
     }
   }
-  in.ShownColor.resize(4 * pixels);
-  in.ShownDepth.assign(pixels, 1.0f);
-  const ptv::PassBuffers& acc = in.Accumulated;
-  if (shown == ptv::PassRadiance || shown == ptv::PassDenoised)
-  {
-    const float* rgb = acc.Data(shown);
-    const float* alpha = acc.Data(ptv::PassAlpha);
-    for (std::size_t i = 0; i < pixels; ++i)
-    {
-      std::copy(rgb + 3 * i, rgb + 3 * i + 3, &in.ShownColor[4 * i]);
-      in.ShownColor[4 * i + 3] = alpha[i];
-    }
-  }
-  else
-  {
-    Colorize(shown, acc, in.Inputs.GetWorldBounds(), in.Params.Camera.FarDistance, in.ShownColor);
-  }
-
-  // Window depth of the first event, so later geometry and picking see the volume. Only the
-  // last two rows of the projection matter (z and w); rows of pixels run in parallel.
-  const double aspect = static_cast<double>(width) / static_cast<double>(height);
-  vtkMatrix4x4* toNdc =
-    ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
-  double zRow[4], wRow[4];
-  for (int c = 0; c < 4; ++c)
-  {
-    zRow[c] = toNdc->GetElement(2, c);
-    wRow[c] = toNdc->GetElement(3, c);
-  }
-  const float* depth = acc.Data(ptv::PassDepth);
-  const float far = in.Params.Camera.FarDistance;
-  const ptv::CameraRays& camera = in.Params.Camera;
-  float* shownDepth = in.ShownDepth.data();
-  ptv::WithThreads(this->NumberOfThreads,
-    [&]()
-    {
-      vtkSMPTools::For(0, height, 16,
-        [&](vtkIdType yBegin, vtkIdType yEnd)
-        {
-          for (vtkIdType y = yBegin; y < yEnd; ++y)
-          {
-            for (int x = 0; x < width; ++x)
-            {
-              const std::size_t i = static_cast<std::size_t>(y) * width + x;
-              if (!ptv::IsHit(depth[i], far))
-              {
-                continue;
-              }
-              ptv::Vec3 o, d;
-              ptv::GenerateRay(camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
-              const ptv::Vec3 p = o + d * depth[i];
-              const double z = zRow[0] * p.x + zRow[1] * p.y + zRow[2] * p.z + zRow[3];
-              const double w = wRow[0] * p.x + wRow[1] * p.y + wRow[2] * p.z + wRow[3];
-              if (w != 0.0)
-              {
-                shownDepth[i] =
-                  static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
-              }
-            }
-          }
-        });
-    });
-  in.Display.Draw(ren, width, height, in.ShownColor.data(), in.ShownDepth.data());
-}
-
-//------------------------------------------------------------------------------
-void vtkPathTracedVolumeMapper::DenoiseFrame(int width, int height)
-{
-  vtkInternals& in = *this->Internals;
-  const std::vector<std::string> key = { this->DenoiserModelFile ? this->DenoiserModelFile : "",
-    std::to_string(this->DenoiserNumberOfLevels), std::to_string(this->NumberOfThreads),
-    this->DenoiserUseNetwork ? "net" : "fixed" };
-  if (in.DenoisedValid && key == in.DenoiseKey)
-  {
-    return; // nothing new to denoise
-  }
-  ptv::DenoiserSettings settings;
-  settings.ModelFile = key[0];
-  settings.Levels = this->DenoiserNumberOfLevels;
-  settings.UseNetwork = this->DenoiserUseNetwork;
-  settings.Threads = this->NumberOfThreads;
-  settings.UseCuda = in.ActiveBackend == "CUDA"; // the grid follows the tracer's backend
-  ptv::PassBuffers& acc = in.Accumulated;
-  const float* passes[ptv::PassCount] = {};
-  for (int p = 0; p < ptv::kTracedPassCount; ++p)
-  {
-    passes[p] = acc.Data(p);
-  }
-  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  const double start = vtkTimerLog::GetUniversalTime();
-  std::string error;
-  if (!in.Denoiser.Run(settings, passes, width, height, acc.Data(ptv::PassDenoised), error))
-  {
-    vtkErrorMacro(<< "Denoising failed: " << error);
-    return;
-  }
-  const std::string warning = in.Denoiser.TakeWarning();
-  if (!warning.empty())
-  {
-    vtkWarningMacro(<< warning);
-  }
-  // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
-  const int levels = in.Denoiser.GetLevels();
-  float* guides = acc.Data(ptv::PassGuides);
-  float* weights = acc.Data(ptv::PassBlendWeights);
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    for (int l = 0; l < 3; ++l)
-    {
-      guides[3 * k + l] = l < levels ? in.Denoiser.GetGuides()[k * levels + l] : 0.0f;
-    }
-    for (int l = 0; l < 2; ++l)
-    {
-      weights[2 * k + l] = l < levels - 1 ? in.Denoiser.GetWeights()[k * (levels - 1) + l] : 0.0f;
-    }
-  }
-  in.DenoisedValid = true;
-  in.DenoiseKey = key;
-  this->LastDenoiseTime = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
+  this->AccumulatedFrames = loop.GetAccumulatedFrames();
+  this->LastRenderTraced = loop.GetLastRenderTraced();
+  this->LastTraceTime = loop.GetLastTraceTime();
+  this->LastDenoiseTime = loop.GetLastDenoiseTime();
 }
 
 //------------------------------------------------------------------------------
 void vtkPathTracedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
-  this->Internals->Display.ReleaseGraphicsResources(window);
-  this->Internals->Cuda.Release();
+  this->Internals->Loop.ReleaseGraphicsResources(window);
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
@@ -614,13 +294,13 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
      << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";
   os << indent << "DenoiserUseNetwork: " << this->DenoiserUseNetwork << "\n";
   os << indent << "DenoiserNumberOfLevels: " << this->DenoiserNumberOfLevels << "\n";
-  os << indent << "DenoiserStatus: " << this->Internals->Denoiser.GetStatus() << "\n";
+  os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
   os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
      << "\n";
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
   os << indent << "Backend: "
      << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
-     << " (last frame: " << this->Internals->ActiveBackend << ")\n";
+     << " (last frame: " << this->Internals->Loop.GetActiveBackend() << ")\n";
   os << indent << "CpuKernelTarget: " << vtkPathTracedVolumeMapper::GetCpuKernelTarget() << "\n";
   os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
 }

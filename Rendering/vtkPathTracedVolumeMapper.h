@@ -10,10 +10,10 @@
  * off), a point light above the volume as in the seed paper. The environment is a uniform colour
  * (default: the renderer's background).
  *
- * One frame, top-down: this class gathers frame inputs (ptvFrameInputs) -> the CPU driver runs
- * the per-pixel estimator of Kernels/ptvIntegrator.h (ptvCpuTracer, vtkSMPTools) -> the samples
- * are averaged into named passes (ptvPassBuffers) -> the chosen pass is drawn with per-pixel depth
- * (ptvDisplay). While camera, volume, transfer functions, light, viewport and opaque geometry stay
+ * One frame, top-down (ptvFrameLoop; this class is its VTK face): frame inputs (ptvFrameInputs)
+ * -> the per-pixel estimator of Kernels/ptvIntegrator.h on the CPU or CUDA (ptvTracerRunner) ->
+ * the running mean of named passes (ptvPassBuffers) -> the denoiser (ptvDenoiser) -> the shown
+ * pass as colour and window depth (ptvShownImage) drawn into the window (ptvDisplay). While camera, volume, transfer functions, light, viewport and opaque geometry stay
  * unchanged, frames accumulate as a running mean up to MaximumAccumulatedFrames; any change
  * resets. Random numbers depend on (pixel, frame, Seed) only, so images are identical across
  * runs and thread counts.
@@ -282,9 +282,6 @@ protected:
   ~vtkPathTracedVolumeMapper() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-
-  /// Run the denoiser on the accumulated passes (when something changed since the last run).
-  void DenoiseFrame(int width, int height);
 
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;

@@ -1,7 +1,7 @@
 // Backend choice (CPU-side logic, runs everywhere): the decision table, and on this machine a
 // CUDA request without a usable device gives one clear error and the CPU image, bit for bit.
 #include "ptvTestCheck.h"
-#include "ptvCudaTracer.h"
+#include "ptvTracerRunner.h"
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -108,17 +108,17 @@ int TestPTVBackend(int, char*[])
 {
   using ptv::ResolveBackend;
   std::string m;
-  Check(ResolveBackend(ptv::BackendCpu, true, "x", m) == ptv::BackendCpu && m.empty(),
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_CPU, true, "x", m) == vtkPathTracedVolumeMapper::BACKEND_CPU && m.empty(),
     "CPU requested, device present: CPU");
-  Check(ResolveBackend(ptv::BackendCpu, false, "x", m) == ptv::BackendCpu && m.empty(),
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_CPU, false, "x", m) == vtkPathTracedVolumeMapper::BACKEND_CPU && m.empty(),
     "CPU requested, no device: CPU");
-  Check(ResolveBackend(ptv::BackendAuto, true, "x", m) == ptv::BackendCuda && m.empty(),
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_AUTO, true, "x", m) == vtkPathTracedVolumeMapper::BACKEND_CUDA && m.empty(),
     "Auto, device present: CUDA");
-  Check(ResolveBackend(ptv::BackendAuto, false, "x", m) == ptv::BackendCpu && m.empty(),
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_AUTO, false, "x", m) == vtkPathTracedVolumeMapper::BACKEND_CPU && m.empty(),
     "Auto, no device: CPU, silently");
-  Check(ResolveBackend(ptv::BackendCuda, true, "x", m) == ptv::BackendCuda && m.empty(),
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_CUDA, true, "x", m) == vtkPathTracedVolumeMapper::BACKEND_CUDA && m.empty(),
     "CUDA requested, device present: CUDA");
-  Check(ResolveBackend(ptv::BackendCuda, false, "no driver (error 35)", m) == ptv::BackendCpu &&
+  Check(ResolveBackend(vtkPathTracedVolumeMapper::BACKEND_CUDA, false, "no driver (error 35)", m) == vtkPathTracedVolumeMapper::BACKEND_CPU &&
       m.find("no driver (error 35)") != std::string::npos,
     "CUDA requested, no device: CPU with a message naming why");
 

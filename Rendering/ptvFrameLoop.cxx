@@ -1,0 +1,240 @@
+#include "ptvFrameLoop.h"
+
+#include "ptvKernelDispatch.h"
+
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+#include "vtkVolume.h"
+
+#include <string>
+
+namespace ptv
+{
+namespace
+{
+double Now()
+{
+  return vtkTimerLog::GetUniversalTime();
+}
+}
+
+//------------------------------------------------------------------------------
+bool FrameLoop::ReportOnce(const std::string& error, const char* fixedPrefix)
+{
+  if (error.empty())
+  {
+    if (this->LastError.rfind(fixedPrefix, 0) == 0)
+    {
+      this->LastError.clear();
+    }
+    return false;
+  }
+  if (error == this->LastError)
+  {
+    return false;
+  }
+  this->LastError = error;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::ResetAccumulation()
+{
+  this->AccumulatedFrames = 0;
+  this->Signature.Clear();
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
+  vtkDataArray* scalars, bool cellScalars, const FrameRequest& request, FrameMessages& messages)
+{
+  this->LastRenderTraced = false;
+  this->LastTraceTime = 0.0;
+  this->LastDenoiseTime = 0.0;
+  auto fail = [this, &messages](const std::string& error)
+  {
+    if (this->ReportOnce(error))
+    {
+      messages.emplace_back(true, error);
+    }
+  };
+
+  // 1. Scene -> kernel inputs.
+  if (scalars && cellScalars)
+  {
+    fail("cell scalars are not supported; convert them with vtkCellDataToPointData");
+    return;
+  }
+  std::string error;
+  vtkIdType nonFinite = 0;
+  if (!this->Inputs.UpdateVolume(image, scalars, error, nonFinite) ||
+    !this->Inputs.UpdateTransfer(vol->GetProperty(), request.Scene.EmptySpaceSkipping, error))
+  {
+    fail(error);
+    return;
+  }
+  if (nonFinite > 0 && nonFinite != this->LastNonFinite)
+  {
+    messages.emplace_back(false,
+      std::to_string(nonFinite) + " voxels are NaN or infinite; they are rendered transparent.");
+  }
+  this->LastNonFinite = nonFinite;
+
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width <= 0 || height <= 0)
+  {
+    return; // a zero-size viewport shows nothing; not an error
+  }
+  this->ZBuffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  if (!Display::ReadDepth(ren, x0, y0, width, height, this->ZBuffer.data()))
+  {
+    this->ZBuffer.clear(); // no opaque-geometry clipping this frame
+  }
+  FrameSignature signature;
+  if (!this->Inputs.Build(ren, vol, image, request.Scene, width, height, this->ZBuffer,
+        this->Params, signature, error))
+  {
+    fail(error);
+    return;
+  }
+  this->LastError.clear();
+  if (!signature.Matches(this->Signature)) // compared with the frame that started the
+  {                                        // accumulation, so slow drifts cannot pile up
+    this->AccumulatedFrames = 0;
+    this->Signature = std::move(signature);
+  }
+
+  // 2.-3. Trace and accumulate, 4. denoise.
+  if (this->AccumulatedFrames < request.MaximumAccumulatedFrames)
+  {
+    this->Trace(request, messages);
+  }
+  if (request.Denoise)
+  {
+    this->DenoiseFrame(request, messages);
+  }
+
+  // 5.-6. What the window shows.
+  this->Shown.Update(ren, this->Accumulated, this->ShownPass(request, messages),
+    this->Params.Camera, this->Inputs.GetWorldBounds(), request.Threads);
+  this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth());
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
+{
+  const double start = Now();
+  const int width = this->Params.Camera.Width;
+  const int height = this->Params.Camera.Height;
+  this->Frame.Resize(width, height);
+  this->Accumulated.Resize(width, height);
+  const int samples = request.Scene.SamplesPerFrame;
+  const unsigned int firstSample = static_cast<unsigned int>(this->AccumulatedFrames) * samples;
+  std::string problem;
+  this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(), firstSample, samples,
+    request.Threads, UsePortableKernels(false), request.Backend, this->Frame, problem);
+  if (!problem.empty() && problem != this->BackendProblem)
+  {
+    messages.emplace_back(true, problem);
+  }
+  this->BackendProblem = problem;
+  ++this->AccumulatedFrames;
+  this->Accumulated.Accumulate(this->Frame, this->AccumulatedFrames);
+  this->LastTraceTime = 1000.0 * (Now() - start);
+  this->LastRenderTraced = true;
+  this->DenoisedValid = false;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& messages)
+{
+  const std::vector<std::string> key = { request.Denoiser.ModelFile,
+    std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
+    request.Denoiser.UseNetwork ? "net" : "fixed" };
+  if (this->DenoisedValid && key == this->DenoiseKey)
+  {
+    return; // nothing new to denoise
+  }
+  DenoiserSettings settings = request.Denoiser;
+  settings.Threads = request.Threads;
+  settings.UseCuda = this->GetActiveBackend() == "CUDA"; // the grid follows the tracer
+  PassBuffers& acc = this->Accumulated;
+  const int width = acc.GetWidth();
+  const int height = acc.GetHeight();
+  const float* passes[PassCount] = {};
+  for (int p = 0; p < kTracedPassCount; ++p)
+  {
+    passes[p] = acc.Data(p);
+  }
+  const double start = Now();
+  std::string error;
+  if (!this->Denoising.Run(settings, passes, width, height, acc.Data(PassDenoised), error))
+  {
+    messages.emplace_back(true, "Denoising failed: " + error);
+    return;
+  }
+  const std::string warning = this->Denoising.TakeWarning();
+  if (!warning.empty())
+  {
+    messages.emplace_back(false, warning);
+  }
+  // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
+  const int levels = this->Denoising.GetLevels();
+  const std::vector<float>& guideIn = this->Denoising.GetGuides();
+  const std::vector<float>& weightIn = this->Denoising.GetWeights();
+  float* guides = acc.Data(PassGuides);
+  float* weights = acc.Data(PassBlendWeights);
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      guides[3 * k + l] = l < levels ? guideIn[k * levels + l] : 0.0f;
+    }
+    for (int l = 0; l < 2; ++l)
+    {
+      weights[2 * k + l] = l < levels - 1 ? weightIn[k * (levels - 1) + l] : 0.0f;
+    }
+  }
+  this->DenoisedValid = true;
+  this->DenoiseKey = key;
+  this->LastDenoiseTime = 1000.0 * (Now() - start);
+}
+
+//------------------------------------------------------------------------------
+int FrameLoop::ShownPass(const FrameRequest& request, FrameMessages& messages)
+{
+  const int radiance = request.Denoise && this->DenoisedValid ? PassDenoised : PassRadiance;
+  if (request.DisplayPass.empty())
+  {
+    return radiance;
+  }
+  std::string problem;
+  int shown = FindPass(request.DisplayPass.c_str());
+  if (shown < 0)
+  {
+    problem = "unknown DisplayPass '" + request.DisplayPass + "'; showing Radiance";
+  }
+  else if (shown >= kTracedPassCount && !this->DenoisedValid)
+  {
+    problem = "DisplayPass '" + request.DisplayPass + "' needs Denoise on";
+  }
+  if (problem.empty())
+  {
+    return shown;
+  }
+  if (this->ReportOnce(problem))
+  {
+    messages.emplace_back(true, problem);
+  }
+  return PassRadiance;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Drawing.ReleaseGraphicsResources(window);
+  this->Tracer.Release();
+}
+}

@@ -1,0 +1,117 @@
+/**
+ * @file ptvFrameLoop.h
+ * @brief Private: one frame of vtkPathTracedVolumeMapper from start to end, and the state kept
+ *        between frames (kernel inputs, passes, accumulation signature, denoiser, display).
+ *
+ * A frame, in order (one file each):
+ *  1. ptvFrameInputs -- the VTK scene (voxels, tables, camera, light, opaque geometry) becomes the
+ *     kernel's plain structs and a signature of everything that changes the image;
+ *  2. ptvTracerRunner -- the frame is traced on the CUDA device or the CPU (ptvCpuTracer runs
+ *     Kernels/ptvIntegrator.h per pixel);
+ *  3. ptvPassBuffers -- the frame joins the running mean of the named passes (a changed signature
+ *     restarts it);
+ *  4. ptvDenoiser -- with Denoise on, the accumulated passes are denoised;
+ *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
+ *  6. ptvDisplay -- which is drawn into the render window.
+ * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
+ * loop's messages into vtkErrorMacro / vtkWarningMacro.
+ */
+#ifndef ptvFrameLoop_h
+#define ptvFrameLoop_h
+
+#include "ptvDenoiser.h"
+#include "ptvDisplay.h"
+#include "ptvFrameInputs.h"
+#include "ptvPassBuffers.h"
+#include "ptvShownImage.h"
+#include "ptvTracerRunner.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+class vtkDataArray;
+class vtkImageData;
+class vtkRenderer;
+class vtkVolume;
+class vtkWindow;
+
+namespace ptv
+{
+/// The mapper's properties for one frame.
+struct FrameRequest
+{
+  FrameSettings Scene;               ///< what reaches the kernel
+  int MaximumAccumulatedFrames = 1024;
+  int Threads = 0;                   ///< <= 0: every core
+  int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
+  bool Denoise = true;
+  DenoiserSettings Denoiser;         ///< ModelFile, UseNetwork, Levels (Threads, UseCuda: set here)
+  std::string DisplayPass;           ///< "" shows the (denoised) radiance
+};
+
+/// What a frame asks the mapper to report, in order: (true = error, false = warning, text).
+using FrameMessages = std::vector<std::pair<bool, std::string>>;
+
+class FrameLoop
+{
+public:
+  /**
+   * Render one frame of @a vol into @a ren from @a image / @a scalars (@a cellScalars: the
+   * chosen array is cell data, which is not supported). Problems go into @a messages, each only
+   * when it differs from the last one reported (a problem that persists is reported once).
+   */
+  void Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image, vtkDataArray* scalars,
+    bool cellScalars, const FrameRequest& request, FrameMessages& messages);
+
+  /// Drop the accumulation; the next frame starts again from sample 0.
+  void ResetAccumulation();
+
+  /**
+   * Report @a error only if it differs from the last error reported; false when it repeats it.
+   * With an empty @a error, forget the last one if it starts with @a fixedPrefix (the problem
+   * was fixed, so a later one is reported again).
+   */
+  bool ReportOnce(const std::string& error, const char* fixedPrefix = "");
+
+  int GetAccumulatedFrames() const { return this->AccumulatedFrames; }
+  bool GetLastRenderTraced() const { return this->LastRenderTraced; }
+  double GetLastTraceTime() const { return this->LastTraceTime; }
+  double GetLastDenoiseTime() const { return this->LastDenoiseTime; }
+  /// The accumulated passes, and the denoiser's when GetDenoisedValid().
+  const PassBuffers& GetPasses() const { return this->Accumulated; }
+  bool GetDenoisedValid() const { return this->DenoisedValid; }
+  const std::string& GetActiveBackend() const { return this->Tracer.GetLastBackend(); }
+  const std::string& GetDenoiserStatus() const { return this->Denoising.GetStatus(); }
+
+  void ReleaseGraphicsResources(vtkWindow* window);
+
+private:
+  void Trace(const FrameRequest& request, FrameMessages& messages);
+  void DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
+  int ShownPass(const FrameRequest& request, FrameMessages& messages);
+
+  FrameInputs Inputs;
+  TraceParams Params{};
+  FrameSignature Signature; ///< of the frame that started the accumulation
+  TracerRunner Tracer;
+  PassBuffers Frame;
+  PassBuffers Accumulated;
+  Denoiser Denoising;
+  ShownImage Shown;
+  Display Drawing;
+  std::vector<float> ZBuffer;
+
+  int AccumulatedFrames = 0;
+  bool LastRenderTraced = false;
+  double LastTraceTime = 0.0;
+  double LastDenoiseTime = 0.0;
+  bool DenoisedValid = false;          ///< Denoised/Guides/BlendWeights match the passes
+  std::vector<std::string> DenoiseKey; ///< settings of the last denoise
+  std::string LastError;
+  std::string BackendProblem; ///< the last backend problem reported
+  vtkIdType LastNonFinite = 0;
+};
+}
+
+#endif
