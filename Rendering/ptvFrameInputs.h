@@ -53,6 +53,11 @@ struct FrameSignature
   std::vector<double> Approximate;
 
   bool Matches(const FrameSignature& other) const;
+  void AddExact(const double* v, int n) { this->Exact.insert(this->Exact.end(), v, v + n); }
+  void AddApproximate(const double* v, int n)
+  {
+    this->Approximate.insert(this->Approximate.end(), v, v + n);
+  }
   void Clear()
   {
     this->Exact.clear();
