@@ -3,9 +3,11 @@
  * @brief Private: turns the VTK scene (image, volume property, camera, lights, z-buffer) into
  *        the kernel's plain structs, owning the host memory behind them.
  *
- * The float copy of the voxels, the transfer-function tables and the occupancy grid are rebuilt
- * only when their VTK sources change (MTime). Build() also returns a signature of everything that
- * changes the image, so the mapper resets its accumulation when (and only when) it differs.
+ * The float copy of the voxels (and the occupancy's per-brick value ranges) is rebuilt only when
+ * the image or array changes, the transfer-function tables and skip distances only when the
+ * volume property changes (MTime). Build() fills the per-frame structs (with ptvSceneToKernel's
+ * pieces) and a signature of everything that changes the image, so the frame loop resets its
+ * accumulation when (and only when) it differs.
  */
 #ifndef ptvFrameInputs_h
 #define ptvFrameInputs_h
