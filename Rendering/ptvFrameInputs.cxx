@@ -273,6 +273,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return false;
   }
   vol->GetBounds(this->WorldBounds);
+  SetClipping(settings, image, g, p.Clip, signature);
 
   // Transfer function.
   vtkVolumeProperty* prop = vol->GetProperty();

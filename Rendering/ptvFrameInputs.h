@@ -41,6 +41,13 @@ struct FrameSettings
   bool UseBackgroundAsEnvironment = true;
   double EnvironmentIntensity = 1.0;
   bool EmptySpaceSkipping = true;
+  /// Clipping planes in world space, kept where n.x + d >= 0: (n.x, n.y, n.z, d), at most 6.
+  int ClipPlaneCount = 0;
+  double ClipPlanes[6][4] = {};
+  /// vtkVolumeMapper cropping: planes in the image's coordinates (origin and spacing applied).
+  bool Cropping = false;
+  double CroppingPlanes[6] = {};
+  int CroppingFlags = 0;
 };
 
 /**

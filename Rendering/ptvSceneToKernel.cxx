@@ -31,7 +31,7 @@ Vec3 ToVec3(const double v[3])
 bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, double& step,
   FrameSignature& signature, std::string& error)
 {
-  // Index -> world: volume matrix * (origin + direction * diag(spacing) * ijk).
+  // Index -> world: volume matrix * (origin + direction * diag(spacing) * (extent min + ijk)).
   double spacing[3], origin[3];
   image->GetSpacing(spacing);
   image->GetOrigin(origin);
@@ -56,6 +56,19 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
   }
   const vtkMatrix3x3* dir = image->GetDirectionMatrix();
   vtkMatrix4x4* m = vol->GetMatrix();
+  // Kernel index (0, 0, 0) is the image's first point, at structured index (extent minimum):
+  // its physical position is origin + direction * diag(spacing) * extent minimum.
+  int extent[6];
+  image->GetExtent(extent);
+  double first[3];
+  for (int r = 0; r < 3; ++r)
+  {
+    first[r] = origin[r];
+    for (int c = 0; c < 3; ++c)
+    {
+      first[r] += dir->GetElement(r, c) * spacing[c] * extent[2 * c];
+    }
+  }
   double a[3][3], t[3];
   for (int r = 0; r < 3; ++r)
   {
@@ -71,7 +84,7 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
     double o = m->GetElement(r, 3);
     for (int k = 0; k < 3; ++k)
     {
-      o += m->GetElement(r, k) * origin[k];
+      o += m->GetElement(r, k) * first[k];
     }
     t[r] = o;
   }
@@ -101,6 +114,72 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
     step = std::min(step, std::sqrt(a[0][c] * a[0][c] + a[1][c] * a[1][c] + a[2][c] * a[2][c]));
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+void SetClipping(const FrameSettings& settings, vtkImageData* image, const VolumeGrid& g,
+  ClipRegion& clip, FrameSignature& signature)
+{
+  // World plane n.x + d >= 0 with x = M^-1 (i - t) for index i = M x + t (WorldToIndex):
+  // (n^T M^-1) i + (d - n^T M^-1 t) >= 0.
+  double m[3][3], mInv[3][3], t[3];
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      m[r][c] = g.WorldToIndex[4 * r + c];
+    }
+    t[r] = g.WorldToIndex[4 * r + 3];
+  }
+  vtkMath::Invert3x3(m, mInv);
+  clip.PlaneCount = std::min(settings.ClipPlaneCount, 6);
+  for (int i = 0; i < clip.PlaneCount; ++i)
+  {
+    const double* n = settings.ClipPlanes[i];
+    double ni[3] = { 0, 0, 0 }; // n^T M^-1
+    for (int c = 0; c < 3; ++c)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        ni[c] += n[r] * mInv[r][c];
+      }
+    }
+    const double di = n[3] - (ni[0] * t[0] + ni[1] * t[1] + ni[2] * t[2]);
+    for (int c = 0; c < 3; ++c)
+    {
+      clip.Planes[i][c] = static_cast<float>(ni[c]);
+    }
+    clip.Planes[i][3] = static_cast<float>(di);
+    signature.AddApproximate(n, 4);
+  }
+  clip.Cropping = settings.Cropping ? 1 : 0;
+  if (clip.Cropping)
+  {
+    // As vtkVolumeMapper: (plane - position of the first point) / spacing, per axis.
+    double origin[3], spacing[3];
+    int extent[6];
+    image->GetOrigin(origin);
+    image->GetSpacing(spacing);
+    image->GetExtent(extent);
+    for (int a = 0; a < 3; ++a)
+    {
+      const double first = origin[a] + spacing[a] * extent[2 * a];
+      double lo = (settings.CroppingPlanes[2 * a] - first) / spacing[a];
+      double hi = (settings.CroppingPlanes[2 * a + 1] - first) / spacing[a];
+      if (lo > hi)
+      {
+        std::swap(lo, hi);
+      }
+      const double last = static_cast<double>(g.Dims[a] - 1);
+      clip.CropPlanes[2 * a] = static_cast<float>(std::min(last, std::max(0.0, lo)));
+      clip.CropPlanes[2 * a + 1] = static_cast<float>(std::min(last, std::max(0.0, hi)));
+    }
+    clip.CropFlags = settings.CroppingFlags;
+    signature.AddApproximate(settings.CroppingPlanes, 6);
+  }
+  const double flags[3] = { static_cast<double>(clip.PlaneCount),
+    static_cast<double>(clip.Cropping), static_cast<double>(clip.Cropping ? clip.CropFlags : 0) };
+  signature.AddExact(flags, 3);
 }
 
 //------------------------------------------------------------------------------

@@ -30,6 +30,15 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
   FrameSignature& signature, std::string& error);
 
 /**
+ * The kept part of the volume (Kernels/ptvClipping.h): @a settings' world clipping planes moved
+ * to index space with @a g's WorldToIndex, and its cropping planes to index space with the
+ * image's origin and spacing (as vtkVolumeMapper converts them: clamped to the index box, each
+ * pair in increasing order).
+ */
+void SetClipping(const FrameSettings& settings, vtkImageData* image, const VolumeGrid& g,
+  ClipRegion& clip, FrameSignature& signature);
+
+/**
  * Rays of @a ren's active camera for a @a width x @a height viewport; @a worldFromNdc receives
  * the inverse of its composite projection (row-major, double), for SetGeometryLimits().
  */

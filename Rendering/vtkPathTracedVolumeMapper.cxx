@@ -9,7 +9,10 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 
 #include <algorithm>
@@ -20,9 +23,105 @@
 struct vtkPathTracedVolumeMapper::vtkInternals
 {
   ptv::FrameLoop Loop;
+  int WarnedBlendMode = -1;  // the unsupported blend mode last warned about
+  std::string ClipProblems;  // the clipping/cropping problems last reported
 };
 
 vtkStandardNewMacro(vtkPathTracedVolumeMapper);
+
+namespace
+{
+// Clipping planes (world) and cropping into the frame settings; bad ones reported and skipped.
+// A problem is reported when the set of problems differs from the last frame's (@a reported).
+void GatherClipping(
+  vtkPathTracedVolumeMapper* self, ptv::FrameSettings& scene, std::string& reported)
+{
+  std::ostringstream problems;
+  scene.ClipPlaneCount = 0;
+  vtkPlaneCollection* planes = self->GetClippingPlanes();
+  const int count = planes ? planes->GetNumberOfItems() : 0;
+  for (int i = 0; i < count; ++i)
+  {
+    vtkPlane* plane = planes->GetItem(i);
+    double n[3], o[3];
+    plane->GetNormal(n);
+    plane->GetOrigin(o);
+    const bool finite = std::all_of(n, n + 3, [](double v) { return std::isfinite(v); }) &&
+      std::all_of(o, o + 3, [](double v) { return std::isfinite(v); });
+    std::ostringstream problem;
+    if (!finite || (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0))
+    {
+      problem << "clipping plane " << i << " has normal (" << n[0] << ", " << n[1] << ", " << n[2]
+              << ") and origin (" << o[0] << ", " << o[1] << ", " << o[2]
+              << "); it is ignored (a plane needs a finite, non-zero normal and a finite origin)";
+    }
+    else if (scene.ClipPlaneCount == 6)
+    {
+      problems << count << " clipping planes; only the first 6 are used (VTK's limit)\n";
+      break;
+    }
+    if (!problem.str().empty())
+    {
+      problems << problem.str() << "\n";
+      continue;
+    }
+    double* q = scene.ClipPlanes[scene.ClipPlaneCount++];
+    std::copy(n, n + 3, q);
+    q[3] = -vtkMath::Dot(n, o);
+  }
+  scene.Cropping = self->GetCropping() != 0;
+  if (scene.Cropping)
+  {
+    const double* c = self->GetCroppingRegionPlanes();
+    if (!std::all_of(c, c + 6, [](double v) { return std::isfinite(v); }))
+    {
+      std::ostringstream problem;
+      problem << "cropping region planes (" << c[0] << ", " << c[1] << ", " << c[2] << ", "
+              << c[3] << ", " << c[4] << ", " << c[5] << ") are not finite; cropping is off";
+      problems << problem.str() << "\n";
+      scene.Cropping = false;
+    }
+    else
+    {
+      std::copy(c, c + 6, scene.CroppingPlanes);
+      scene.CroppingFlags = self->GetCroppingRegionFlags();
+    }
+  }
+  if (problems.str() != reported)
+  {
+    reported = problems.str();
+    std::istringstream lines(reported);
+    for (std::string line; std::getline(lines, line);)
+    {
+      vtkErrorWithObjectMacro(self, << line);
+    }
+  }
+}
+
+// One warning per unsupported blend mode (until the mode changes).
+void CheckBlendMode(vtkPathTracedVolumeMapper* self, int& warned)
+{
+  static const char* const names[] = { "Composite", "MaximumIntensity", "MinimumIntensity",
+    "AverageIntensity", "Additive", "IsoSurface", "Slice" };
+  const int mode = self->GetBlendMode();
+  if (mode == vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    warned = -1;
+    return;
+  }
+  if (mode == warned)
+  {
+    return;
+  }
+  warned = mode;
+  const char* name = mode >= 0 && mode < 7 ? names[mode] : "unknown";
+  vtkWarningWithObjectMacro(self, << "BlendMode " << name << " (" << mode
+                  << ") is not supported by the path tracer; it renders Composite (path traced). "
+                     "Use vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper for "
+                     "projections and isosurfaces.");
+}
+
+}
 
 //------------------------------------------------------------------------------
 vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
@@ -244,6 +343,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
     request.Denoiser.Levels = this->DenoiserNumberOfLevels;
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
+    GatherClipping(this, scene, this->Internals->ClipProblems);
+    CheckBlendMode(this, this->Internals->WarnedBlendMode);
 
     ptv::FrameMessages messages;
     loop.Render(ren, vol, image, scalars, cellFlag != 0, request, messages);

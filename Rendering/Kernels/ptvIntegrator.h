@@ -57,6 +57,8 @@
  *  (ptvOccupancy.h), k jumps to the first sample index whose t is past the empty cube of bricks
  *  around it; the skipped samples all have a = 0 and draw no random numbers, so results are
  *  bit-identical with and without skipping.
+ *  Clipping and cropping (ptvClipping.h): points that are cut away classify as transparent, and
+ *  every march first clips its [tStart, tEnd] to the convex kept part (fewer samples only).
  *  Misses and no-event fields: Normal 0, Position 0, Depth = Camera.FarDistance, Albedo 0.
  *
  * Parameter guards: StepWorld <= 0 (or NaN) renders nothing; UnitDistance <= 0 means alpha is
@@ -66,6 +68,7 @@
 #define ptvIntegrator_h
 
 #include "ptvCamera.h"
+#include "ptvClipping.h"
 #include "ptvKernelCommon.h"
 #include "ptvOccupancy.h"
 #include "ptvRandom.h"
@@ -88,6 +91,7 @@ struct TraceParams
   VolumeGrid Volume;
   TransferTable Transfer;
   OccupancyGrid Occupancy; ///< Occupancy.SkipDistance == nullptr: no skipping
+  ClipRegion Clip;         ///< clipping planes and cropping (ptvClipping.h); default: none
   CameraRays Camera;
   Light KeyLight;
   Vec3 Environment;      ///< uniform environment radiance
@@ -251,6 +255,10 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
 /// gradient-opacity factor.
 PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
 {
+  if (HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx))
+  {
+    return TransferSample{ MakeVec3(0.f, 0.f, 0.f), 0.f }; // cut away: transparent
+  }
   const float s =
     p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
   TransferSample ts = LookupTransfer(p.Transfer, s);
@@ -302,8 +310,12 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   {
     return 1.f;
   }
-  const float tStart = Max(tEnter, 0.f);
-  const float tEnd = Min(tExit, tMax);
+  float tStart = Max(tEnter, 0.f);
+  float tEnd = Min(tExit, tMax);
+  if (HasClipping(p.Clip) && !ClipInterval(p.Clip, oIdx, dIdx, tStart, tEnd))
+  {
+    return 1.f; // the ray meets no kept point
+  }
   float T = 1.f;
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
     [&](float, Vec3 pIdx)
@@ -438,8 +450,12 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   {
     return out;
   }
-  const float tStart = Max(tEnter, 0.f);
-  const float tEnd = p.MaxDistance ? Min(tExit, p.MaxDistance[pixel]) : tExit;
+  float tStart = Max(tEnter, 0.f);
+  float tEnd = p.MaxDistance ? Min(tExit, p.MaxDistance[pixel]) : tExit;
+  if (HasClipping(p.Clip) && !ClipInterval(p.Clip, oIdx, dIdx, tStart, tEnd))
+  {
+    return out;
+  }
   if (!(tStart < tEnd))
   {
     return out;

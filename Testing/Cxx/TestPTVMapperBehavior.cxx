@@ -4,7 +4,9 @@
 //  - every pass is readable as a float vtkImageData with finite values of the right shape;
 //  - images are bit-identical with 1 and 2 threads, and with and without empty-space skipping;
 //  - bad input (NaN voxels, empty volume, one voxel, multi-component scalars, camera inside the
-//    volume, zero-size viewport) gives the documented error or behaviour and never crashes.
+//    volume, zero-size viewport) gives the documented error or behaviour and never crashes;
+//  - clipping planes and cropping cut the volume (kept side, restarts, bad planes reported and
+//    ignored); every blend mode but Composite gives exactly one warning naming it.
 #include "ptvTestCheck.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -13,6 +15,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
+#include "vtkPlane.h"
 #include "vtkNew.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
@@ -32,6 +35,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -333,6 +337,130 @@ void TestBadInput()
 }
 }
 
+// Covered pixels (Alpha > 0) and their mean column.
+std::pair<int, double> Coverage(Scene& s, int width)
+{
+  const auto alpha = s.Pass("Alpha");
+  int n = 0;
+  double x = 0.0;
+  for (std::size_t i = 0; i < alpha.size(); ++i)
+  {
+    if (alpha[i] > 0.f)
+    {
+      ++n;
+      x += static_cast<double>(i % width);
+    }
+  }
+  return { n, n ? x / n : 0.0 };
+}
+
+void TestClippingCropping()
+{
+  Scene s(48);
+  s.Window->Render(); // coverage is compared on first frames (same seed, same random numbers)
+  const auto full = Coverage(s, 48);
+  const auto fullRadiance = s.Pass("Radiance");
+
+  // A plane through the centre keeps the side its normal points to.
+  vtkNew<vtkPlane> plane;
+  plane->SetOrigin(0, 0, 0);
+  plane->SetNormal(1, 0, 0);
+  s.Mapper->AddClippingPlane(plane);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "adding a clipping plane restarts");
+  const auto cut = Coverage(s, 48);
+  Check(cut.first > 0 && cut.first < 0.8 * full.first, "the plane removes part of the volume");
+  Check(cut.second > full.second + 2.0, "the kept part is on the normal's side (+x: right)");
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 2, "an unchanged plane accumulates");
+  plane->SetOrigin(3, 0, 0);
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "moving the plane restarts");
+  plane->SetNormal(-1, 0, 0);
+  plane->SetOrigin(-1000, 0, 0); // keeps x <= -1000: nothing
+  s.Window->Render();
+  Check(Coverage(s, 48).first == 0, "a plane keeping nothing shows nothing");
+  s.Mapper->RemoveAllClippingPlanes();
+  s.Window->Render();
+  Check(s.Pass("Radiance") == fullRadiance, "removing the plane gives the unclipped image again");
+
+  // A degenerate plane is reported once and ignored; a seventh plane is reported.
+  vtkNew<vtkTest::ErrorObserver> obs;
+  s.Mapper->AddObserver(vtkCommand::ErrorEvent, obs);
+  vtkNew<vtkPlane> flat;
+  flat->SetNormal(0, 0, 0);
+  s.Mapper->AddClippingPlane(flat);
+  s.Mapper->ResetAccumulation(); // an ignored plane changes nothing, so it would accumulate
+  s.Window->Render();
+  Check(obs->CheckErrorMessage("clipping plane 0 has normal (0, 0, 0)") == 0,
+    "a zero normal is an error naming the plane");
+  Check(Coverage(s, 48).first == full.first, "the degenerate plane is ignored");
+  obs->Clear();
+  s.Window->Render();
+  Check(!obs->GetError(), "the same problem is not reported again");
+  s.Mapper->RemoveAllClippingPlanes();
+  for (int i = 0; i < 7; ++i)
+  {
+    vtkNew<vtkPlane> p;
+    p->SetOrigin(-1000, 0, 0);
+    p->SetNormal(1, 0, 0); // keeps everything
+    s.Mapper->AddClippingPlane(p);
+  }
+  s.Window->Render();
+  Check(obs->CheckErrorMessage("7 clipping planes; only the first 6") == 0, "the 6-plane limit");
+  s.Mapper->RemoveAllClippingPlanes();
+
+  // Cropping: the sub-volume keeps the centre box, flags 0 keep nothing, NaN planes are refused.
+  s.Mapper->CroppingOn();
+  s.Mapper->SetCroppingRegionPlanes(-8, 8, -8, 8, -8, 8);
+  s.Mapper->SetCroppingRegionFlagsToSubVolume();
+  s.Window->Render();
+  Check(s.Mapper->GetAccumulatedFrames() == 1, "cropping restarts");
+  const auto box = Coverage(s, 48);
+  Check(box.first > 0 && box.first < 0.7 * full.first, "the sub-volume is smaller");
+  s.Mapper->SetCroppingRegionFlags(0);
+  s.Window->Render();
+  Check(Coverage(s, 48).first == 0, "no region kept, nothing shown");
+  s.Mapper->SetCroppingRegionFlagsToInvertedCross();
+  s.Window->Render();
+  const auto cross = Coverage(s, 48);
+  Check(cross.first > 0 && cross.first < full.first, "the inverted cross keeps part");
+  obs->Clear();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  s.Mapper->SetCroppingRegionPlanes(nan, 8, -8, 8, -8, 8);
+  s.Window->Render();
+  Check(obs->CheckErrorMessage("are not finite; cropping is off") == 0, "NaN crop planes");
+  Check(Coverage(s, 48).first == full.first, "with cropping refused the whole volume shows");
+}
+
+void TestBlendModes()
+{
+  Scene s(32);
+  vtkNew<vtkTest::ErrorObserver> obs;
+  s.Mapper->AddObserver(vtkCommand::WarningEvent, obs);
+  s.Window->Render();
+  Check(!obs->GetWarning(), "Composite: no warning");
+  const char* names[] = { "MaximumIntensity", "MinimumIntensity", "AverageIntensity", "Additive",
+    "IsoSurface", "Slice" };
+  for (int mode = 1; mode <= 6; ++mode)
+  {
+    obs->Clear();
+    s.Mapper->SetBlendMode(mode);
+    s.Window->Render();
+    s.Window->Render();
+    const std::string text = obs->GetWarningMessage();
+    const std::string want = std::string("BlendMode ") + names[mode - 1];
+    const std::size_t first = text.find("BlendMode ");
+    Check(first != std::string::npos && text.find("BlendMode ", first + 1) == std::string::npos &&
+        text.find(want) == first,
+      std::string("one warning naming ") + names[mode - 1]);
+  }
+  obs->Clear();
+  s.Mapper->SetBlendModeToComposite();
+  s.Window->Render();
+  Check(!obs->GetWarning(), "back to Composite: no warning");
+}
+
 int TestPTVMapperBehavior(int, char*[])
 {
   TestAccumulation();
@@ -340,5 +468,7 @@ int TestPTVMapperBehavior(int, char*[])
   TestDenoise();
   TestDeterminism();
   TestBadInput();
+  TestClippingCropping();
+  TestBlendModes();
   return TestResult();
 }

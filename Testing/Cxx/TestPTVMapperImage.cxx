@@ -5,6 +5,8 @@
 //   pass_<Name>                          each auxiliary pass shown through DisplayPass
 //   sphere                               an opaque polygonal sphere intersecting the volume
 //   head_1spp_fixedguide                 the denoiser's fixed guide (no network) on 1 spp
+//   head_clip_16spp                      a clipping plane through the centre (normal (1, .3, 0))
+//   head_crop_16spp, head_cropfence_16spp cropping: sub-volume, and fence (non-convex)
 // The tracer is deterministic (seeded per pixel and frame), so the threshold only absorbs
 // OpenGL differences; a real change of the estimator moves many pixels and fails.
 #include "vtkActor.h"
@@ -12,6 +14,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPlane.h"
 #include "vtkPTVTransferFunctionPreset.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
@@ -88,6 +91,7 @@ int TestPTVMapperImage(int argc, char* argv[])
   const std::string name = CaseName(argc, argv);
   const bool head = name.rfind("head", 0) == 0;
   const bool accumulate = name.find("256spp") != std::string::npos;
+  const bool sixteen = name.find("16spp") != std::string::npos;
   // head_1spp_fixedguide is a head case too (name starts with "head").
   std::cout << "case: " << name << "\n";
 
@@ -170,7 +174,32 @@ int TestPTVMapperImage(int argc, char* argv[])
   window->SetSize(200, 200);
   window->SetMultiSamples(0);
   window->AddRenderer(renderer);
-  const int frames = accumulate ? 256 : 1;
+  if (name == "head_clip_16spp")
+  {
+    const double* b = volume->GetBounds();
+    vtkNew<vtkPlane> plane;
+    plane->SetOrigin((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2);
+    plane->SetNormal(1, 0.3, 0);
+    mapper->AddClippingPlane(plane);
+  }
+  if (name.rfind("head_crop", 0) == 0)
+  {
+    // Planes in the image's coordinates: the central 50% on x, 60% on y and z.
+    const double* b = volume->GetBounds();
+    mapper->CroppingOn();
+    mapper->SetCroppingRegionPlanes(b[0] + 0.25 * (b[1] - b[0]), b[0] + 0.75 * (b[1] - b[0]),
+      b[2] + 0.2 * (b[3] - b[2]), b[2] + 0.8 * (b[3] - b[2]), b[4] + 0.2 * (b[5] - b[4]),
+      b[4] + 0.8 * (b[5] - b[4]));
+    if (name == "head_cropfence_16spp")
+    {
+      mapper->SetCroppingRegionFlagsToFence();
+    }
+    else
+    {
+      mapper->SetCroppingRegionFlagsToSubVolume();
+    }
+  }
+  const int frames = accumulate ? 256 : (sixteen ? 16 : 1);
   mapper->SetMaximumAccumulatedFrames(frames);
   for (int i = 0; i < frames; ++i)
   {
