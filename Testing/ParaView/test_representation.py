@@ -188,6 +188,14 @@ def frames():
     return mapper().GetAccumulatedFrames()
 
 
+def mapper_pass(name):
+    """Pass ``name`` of the mapper's current accumulation as a flat numpy array."""
+    image = vtkImageData()
+    if not mapper().GetPass(name, image):
+        return None
+    return vtk_to_numpy(image.GetPointData().GetArray(name)).astype(np.float64).copy()
+
+
 # --- 1. baseline ------------------------------------------------------------------------------
 renders = render_until_converged()
 check(frames() == 16 and not mapper().GetLastRenderTraced(),
@@ -335,6 +343,44 @@ for name, value in [("EmptySpaceSkipping", 0), ("NumberOfThreads", 1)]:
     check(same is not None and np.array_equal(same, reference_radiance),
           "%s=%s leaves the image bit-identical" % (name, value))
     display.SetPropertyWithName(name, old)
+
+# --- 2d'. cropping and blend mode: ParaView's own volume properties reach the mapper -----------
+display.Denoise = 0
+display.MaximumAccumulatedFrames = 1
+display.Seed = 3  # a fresh one-frame accumulation, so first frames are compared
+Render(view)
+full_alpha = mapper_pass("Alpha")
+display.UseCropping = 1
+display.CroppingOrigin = [60, 60, 20]
+display.CroppingScale = [0.5, 0.5, 0.5]
+Render(view)
+cropped_alpha = mapper_pass("Alpha")
+print("UseCropping: covered pixels %d -> %d, mapper planes %s"
+      % ((full_alpha > 0).sum(), (cropped_alpha > 0).sum(),
+         mapper().GetCroppingRegionPlanes()))
+check(mapper().GetCropping() == 1 and frames() == 1
+      and 0 < (cropped_alpha > 0).sum() < 0.8 * (full_alpha > 0).sum(),
+      "UseCropping/CroppingOrigin/CroppingScale crop the path-traced volume")
+display.UseCropping = 0
+Render(view)
+check(np.array_equal(mapper_pass("Alpha"), full_alpha), "UseCropping=0 gives the full volume")
+# A blend mode the path tracer does not have: exactly one warning naming it (collected here).
+from vtkmodules.vtkCommonCore import vtkLogger  # noqa: E402
+before = len(vtk_messages)
+verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # the stderr copy would trip ctest
+display.BlendMode = "Isosurface"
+Render(view)
+Render(view)
+vtkLogger.SetStderrVerbosity(verbosity)
+blend_messages = vtk_messages[before:]
+del vtk_messages[before:]
+check(len(blend_messages) == 1 and "BlendMode IsoSurface" in blend_messages[0],
+      "BlendMode Isosurface: one warning naming it (%d messages)" % len(blend_messages))
+display.BlendMode = "Composite"
+display.Seed = 0
+display.Denoise = 1
+display.MaximumAccumulatedFrames = 4
 
 # --- 2e. the network: the shipped model must load (a missing model fails the test) --------------
 display.DenoiserUseNetwork = 1
