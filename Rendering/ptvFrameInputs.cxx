@@ -162,18 +162,22 @@ bool FrameInputs::UpdateVolume(
 }
 
 //------------------------------------------------------------------------------
-bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std::string& error)
+bool FrameInputs::UpdateTransfer(
+  vtkVolumeProperty* property, bool skipping, const IsoSurfaces& iso, std::string& error)
 {
   if (!property)
   {
     error = "the vtkVolume has no vtkVolumeProperty";
     return false;
   }
+  const bool sameIso = iso.Count == this->OccupancyIso.Count &&
+    std::equal(iso.Values, iso.Values + iso.Count, this->OccupancyIso.Values);
   if (property->GetMTime() <= this->TransferTime && skipping == this->TransferSkipping &&
-    !this->RGBA.empty())
+    sameIso && !this->RGBA.empty())
   {
     return true;
   }
+  this->OccupancyIso = iso;
   this->RGBA.assign(4 * kTableSize, 0.0f);
   std::vector<float> rgb(3 * kTableSize), alpha(kTableSize);
   if (property->GetColorChannels(0) == 1)
@@ -249,7 +253,8 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping, std
     table.ScalarMin = static_cast<float>(this->Range[0]);
     table.ScalarMax = static_cast<float>(this->Range[1]);
     this->SkipDistance.resize(bricks);
-    BuildOccupancy(table, this->BrickCounts, this->BrickRanges.data(), this->SkipDistance.data());
+    BuildOccupancy(
+      table, this->BrickCounts, this->BrickRanges.data(), this->SkipDistance.data(), &iso);
   }
   this->TransferTime = property->GetMTime();
   return true;
@@ -274,6 +279,14 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   vol->GetBounds(this->WorldBounds);
   SetClipping(settings, image, g, p.Clip, signature);
+  p.Iso = settings.Iso;
+  const double isoCount = static_cast<double>(p.Iso.Count);
+  signature.AddExact(&isoCount, 1);
+  for (int i = 0; i < p.Iso.Count; ++i)
+  {
+    const double v = p.Iso.Values[i];
+    signature.AddExact(&v, 1);
+  }
 
   // Transfer function.
   vtkVolumeProperty* prop = vol->GetProperty();

@@ -48,6 +48,8 @@ struct FrameSettings
   bool Cropping = false;
   double CroppingPlanes[6] = {};
   int CroppingFlags = 0;
+  /// Isosurface blend mode: the property's iso values (sorted, at most 8); Count 0: composite.
+  IsoSurfaces Iso;
 };
 
 /**
@@ -84,8 +86,10 @@ public:
   bool UpdateVolume(vtkImageData* image, vtkDataArray* scalars, std::string& error,
     vtkIdType& nonFinite);
 
-  /// Rebuild the transfer tables (and the occupancy grid) when the property changed.
-  bool UpdateTransfer(vtkVolumeProperty* property, bool skipping, std::string& error);
+  /// Rebuild the transfer tables (and the occupancy grid) when the property, the skipping
+  /// switch or the isosurfaces (@a iso, Count 0 for composite) changed.
+  bool UpdateTransfer(
+    vtkVolumeProperty* property, bool skipping, const IsoSurfaces& iso, std::string& error);
 
   /**
    * Fill @a params for a @a width x @a height frame of @a ren. @a zbuffer (window depths in
@@ -117,6 +121,7 @@ private:
   int Nearest = 0;
   std::vector<float> BrickRanges;    ///< per brick (lo, hi) of the voxels, see ptvOccupancy.h
   std::vector<uint8_t> SkipDistance; ///< per brick, see Kernels/ptvOccupancy.h
+  IsoSurfaces OccupancyIso;          ///< the isosurfaces SkipDistance was built for
   int BrickCounts[3] = { 0, 0, 0 };
 
   std::vector<float> MaxDistance;

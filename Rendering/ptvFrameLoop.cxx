@@ -68,7 +68,8 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   std::string error;
   vtkIdType nonFinite = 0;
   if (!this->Inputs.UpdateVolume(image, scalars, error, nonFinite) ||
-    !this->Inputs.UpdateTransfer(vol->GetProperty(), request.Scene.EmptySpaceSkipping, error))
+    !this->Inputs.UpdateTransfer(
+      vol->GetProperty(), request.Scene.EmptySpaceSkipping, request.Scene.Iso, error))
   {
     fail(error);
     return;

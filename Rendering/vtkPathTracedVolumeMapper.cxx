@@ -5,6 +5,7 @@
 #include "ptvFrameLoop.h"
 #include "ptvKernelDispatch.h"
 
+#include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -14,16 +15,20 @@
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 struct vtkPathTracedVolumeMapper::vtkInternals
 {
   ptv::FrameLoop Loop;
-  int WarnedBlendMode = -1;  // the unsupported blend mode last warned about
+  std::string BlendProblem;  // the blend-mode problem last reported
   std::string ClipProblems;  // the clipping/cropping problems last reported
 };
 
@@ -98,29 +103,69 @@ void GatherClipping(
   }
 }
 
-// One warning per unsupported blend mode (until the mode changes).
-void CheckBlendMode(vtkPathTracedVolumeMapper* self, int& warned)
+// The blend mode: Composite is the path tracer; IsoSurface traces the property's iso values as
+// surfaces (into scene.Iso); any other mode renders Composite. A problem (unsupported mode, no or
+// too many or NaN iso values) is reported when it differs from the last one (@a reported).
+void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* property,
+  ptv::FrameSettings& scene, std::string& reported)
 {
   static const char* const names[] = { "Composite", "MaximumIntensity", "MinimumIntensity",
     "AverageIntensity", "Additive", "IsoSurface", "Slice" };
   const int mode = self->GetBlendMode();
-  if (mode == vtkVolumeMapper::COMPOSITE_BLEND)
+  std::ostringstream problem;
+  scene.Iso.Count = 0;
+  if (mode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
-    warned = -1;
-    return;
+    vtkContourValues* values = property ? property->GetIsoSurfaceValues() : nullptr;
+    const int n = values ? values->GetNumberOfContours() : 0;
+    std::vector<float> kept;
+    for (int i = 0; i < n; ++i)
+    {
+      const double v = values->GetValue(i);
+      if (!std::isfinite(v))
+      {
+        problem << "iso value " << i << " is " << v << "; it is ignored. ";
+        continue;
+      }
+      kept.push_back(static_cast<float>(v));
+    }
+    std::sort(kept.begin(), kept.end());
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    if (kept.size() > static_cast<std::size_t>(ptv::kMaxIsoValues))
+    {
+      problem << kept.size() << " iso values; the lowest " << ptv::kMaxIsoValues
+              << " are traced. ";
+      kept.resize(ptv::kMaxIsoValues);
+    }
+    if (kept.empty())
+    {
+      problem << "BlendMode IsoSurface without iso values draws nothing; add them with "
+                 "GetIsoSurfaceValues()->SetValue(i, value) on the volume property. ";
+      scene.Iso.Count = 1;
+      scene.Iso.Values[0] = std::numeric_limits<float>::infinity(); // crosses nothing
+    }
+    else
+    {
+      scene.Iso.Count = static_cast<int>(kept.size());
+      std::copy(kept.begin(), kept.end(), scene.Iso.Values);
+    }
   }
-  if (mode == warned)
+  else if (mode != vtkVolumeMapper::COMPOSITE_BLEND)
   {
-    return;
+    problem << "BlendMode " << (mode >= 0 && mode < 7 ? names[mode] : "unknown") << " (" << mode
+            << ") is not supported by the path tracer; it renders Composite (path traced). "
+               "Use vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper for "
+               "intensity projections and slices.";
   }
-  warned = mode;
-  const char* name = mode >= 0 && mode < 7 ? names[mode] : "unknown";
-  vtkWarningWithObjectMacro(self, << "BlendMode " << name << " (" << mode
-                  << ") is not supported by the path tracer; it renders Composite (path traced). "
-                     "Use vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper for "
-                     "projections and isosurfaces.");
+  if (problem.str() != reported)
+  {
+    reported = problem.str();
+    if (!reported.empty())
+    {
+      vtkWarningWithObjectMacro(self, << reported);
+    }
+  }
 }
-
 }
 
 //------------------------------------------------------------------------------
@@ -344,7 +389,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoiser.Levels = this->DenoiserNumberOfLevels;
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
     GatherClipping(this, scene, this->Internals->ClipProblems);
-    CheckBlendMode(this, this->Internals->WarnedBlendMode);
+    GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
 
     ptv::FrameMessages messages;
     loop.Render(ren, vol, image, scalars, cellFlag != 0, request, messages);

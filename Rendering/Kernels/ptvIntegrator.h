@@ -59,6 +59,10 @@
  *  bit-identical with and without skipping.
  *  Clipping and cropping (ptvClipping.h): points that are cut away classify as transparent, and
  *  every march first clips its [tStart, tEnd] to the convex kept part (fewer samples only).
+ *  Isosurfaces (Iso.Count > 0, ptvIsosurface.h): the medium is replaced by the surfaces where
+ *  the scalar crosses an iso value. Camera and transmittance rays march one-voxel steps and meet
+ *  the surfaces between samples; the events and transmittances follow steps 3-6 with the
+ *  surface's opacity alpha (at its value) in place of a, at the crossing instead of a sample.
  *  Misses and no-event fields: Normal 0, Position 0, Depth = Camera.FarDistance, Albedo 0.
  *
  * Parameter guards: StepWorld <= 0 (or NaN) renders nothing; UnitDistance <= 0 means alpha is
@@ -69,6 +73,7 @@
 
 #include "ptvCamera.h"
 #include "ptvClipping.h"
+#include "ptvIsosurface.h"
 #include "ptvKernelCommon.h"
 #include "ptvOccupancy.h"
 #include "ptvRandom.h"
@@ -92,6 +97,7 @@ struct TraceParams
   TransferTable Transfer;
   OccupancyGrid Occupancy; ///< Occupancy.SkipDistance == nullptr: no skipping
   ClipRegion Clip;         ///< clipping planes and cropping (ptvClipping.h); default: none
+  IsoSurfaces Iso;         ///< Iso.Count > 0: isosurfaces instead of the composite medium
   CameraRays Camera;
   Light KeyLight;
   Vec3 Environment;      ///< uniform environment radiance
@@ -189,7 +195,7 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
 /**
  * The one march every ray uses (camera, shadow and environment rays): the samples t_k =
  * MarchSampleT(tStart, xi, step, k), k = 0, 1, ... with t_k < tEnd, in order, calling
- * visit(t, pIdx) (pIdx = oIdx + dIdx t) for each until it returns true (stop). With an occupancy
+ * visit(k, t, pIdx) (pIdx = oIdx + dIdx t) for each until it returns true (stop). With an occupancy
  * grid, samples in empty regions are skipped without a call: at a sample in an empty brick the
  * march jumps to the first sample at or after the exit of the empty cube around it
  * (RegionExitT); at a sample in an occupied brick it visits every sample before that brick's
@@ -233,7 +239,7 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
     }
     for (;;)
     {
-      if (visit(t, pIdx))
+      if (visit(k, t, pIdx))
       {
         return;
       }
@@ -270,6 +276,41 @@ PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
   return ts;
 }
 
+/// Isosurface marches: the scalar at a sample, NaN where the point is cut away (no crossing).
+PTV_HD PTV_INLINE float IsoScalar(const TraceParams& p, Vec3 pIdx)
+{
+  if (HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx))
+  {
+    return nanf("");
+  }
+  return p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
+}
+
+/**
+ * The crossings of one isosurface march step: the previous visited sample (index, t, scalar)
+ * and the current one; crossings count only between consecutive samples (a skipped sample lies
+ * in an empty brick, whose neighbouring step crosses nothing; ptvIsosurface.h).
+ */
+struct IsoStep
+{
+  int K = -2;
+  float T = 0.f;
+  float S = 0.f;
+  /// For sample (k, t, s): visit(tHit, value) per crossing since the previous sample, in order.
+  template <class Visit>
+  PTV_HD PTV_INLINE bool Advance(const IsoSurfaces& iso, int k, float t, float s, Visit&& visit)
+  {
+    const bool consecutive = k == this->K + 1;
+    const float t0 = this->T, s0 = this->S;
+    this->K = k;
+    this->T = t;
+    this->S = s;
+    return consecutive &&
+      ForEachCrossing(iso, s0, s,
+        [&](float f, float v) { return visit(t0 + f * (t - t0), v); });
+  }
+};
+
 /// World-space unit normal at pIdx facing against viewDir, or 0 where the gradient is ~0.
 PTV_HD PTV_INLINE Vec3 ShadingNormal(const TraceParams& p, Vec3 pIdx, Vec3 viewDir)
 {
@@ -302,6 +343,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
 {
   const float xi = NextFloat(rng);
   const float step = p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
+  const float isoStep = p.StepWorld; // isosurfaces: one-voxel steps (ptvIsosurface.h)
   const float stepOverUnit = StepOverUnit(p, step);
   const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, x);
   const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, w);
@@ -317,8 +359,37 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
     return 1.f; // the ray meets no kept point
   }
   float T = 1.f;
+  // Russian roulette after an absorbing event: false ends the ray (T = 0).
+  auto survive = [&]()
+  {
+    while (T < kRouletteThreshold)
+    {
+      if (NextFloat(rng) >= 0.5f)
+      {
+        T = 0.f;
+        return false;
+      }
+      T *= 2.f;
+    }
+    return true;
+  };
+  if (p.Iso.Count > 0)
+  {
+    IsoStep iso;
+    March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, isoStep,
+      [&](int k, float t, Vec3 pIdx)
+      {
+        return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
+          [&](float, float v)
+          {
+            T *= 1.f - LookupTransfer(p.Transfer, v).Opacity;
+            return !(T > 0.f) ? (T = 0.f, true) : !survive();
+          });
+      });
+    return T;
+  }
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
-    [&](float, Vec3 pIdx)
+    [&](int, float, Vec3 pIdx)
     {
       const float a = CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
       if (a > 0.f)
@@ -329,15 +400,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
           T = 0.f;
           return true;
         }
-        while (T < kRouletteThreshold)
-        {
-          if (NextFloat(rng) >= 0.5f)
-          {
-            T = 0.f;
-            return true;
-          }
-          T *= 2.f;
-        }
+        return !survive();
       }
       return false;
     });
@@ -461,11 +524,52 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
     return out;
   }
 
-  const float stepOverUnit = StepOverUnit(p, step);
   float T = 1.f;
   bool haveFirst = false;
+  if (p.Iso.Count > 0)
+  {
+    // Isosurfaces: the first crossing is the first event; a surface of opacity alpha scatters
+    // when 1 - T >= threshold after T *= 1 - alpha (ptvIsosurface.h).
+    IsoStep iso;
+    March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+      [&](int k, float t, Vec3 pIdx)
+      {
+        return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
+          [&](float tHit, float v)
+          {
+            const TransferSample ts = LookupTransfer(p.Transfer, v);
+            if (!(ts.Opacity > 0.f))
+            {
+              return false;
+            }
+            const Vec3 hit = origin + dir * tHit;
+            const Vec3 n = ShadingNormal(p, oIdx + dIdx * tHit, dir);
+            if (!haveFirst)
+            {
+              haveFirst = true;
+              out.Depth1 = tHit;
+              out.Position1 = hit;
+              out.Normal1 = n;
+              out.Albedo = ts.Color;
+            }
+            T *= 1.f - ts.Opacity;
+            if (p.Scattering && 1.f - T < threshold)
+            {
+              return false;
+            }
+            out.Alpha = 1.f;
+            out.Depth2 = tHit;
+            out.Position2 = hit;
+            out.Normal2 = n;
+            out.Radiance = ShadeEvent(p, hit, dir, ts.Color, n, rng);
+            return true;
+          });
+      });
+    return out;
+  }
+  const float stepOverUnit = StepOverUnit(p, step);
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
-    [&](float t, Vec3 pIdx)
+    [&](int, float t, Vec3 pIdx)
     {
       const TransferSample ts = ClassifyPoint(p, pIdx);
       const float a = CorrectOpacity(ts.Opacity, stepOverUnit);

@@ -31,6 +31,7 @@
 #ifndef ptvOccupancy_h
 #define ptvOccupancy_h
 
+#include "ptvIsosurface.h"
 #include "ptvKernelCommon.h"
 #include "ptvTransferTable.h"
 #include "ptvVolumeGrid.h"
@@ -213,10 +214,12 @@ inline void ChessboardDistance(const int bricks[3], uint8_t* d)
  * brick ranges of BuildBrickRanges(): 0 for bricks that may hold visible samples (the table's
  * largest opacity over the brick's range is > 0; the table is piecewise linear, so that largest
  * value is at an entry inside the range or at an interpolated end point), the chessboard
- * distance to the nearest such brick for provably empty ones; see the file comment.
+ * distance to the nearest such brick for provably empty ones; see the file comment. With
+ * isosurfaces (@a iso with Count > 0) a brick is occupied when a visible iso value lies in its
+ * range instead (ptvIsosurface.h).
  */
-inline void BuildOccupancy(
-  const TransferTable& tf, const int bricks[3], const float* ranges, uint8_t* out)
+inline void BuildOccupancy(const TransferTable& tf, const int bricks[3], const float* ranges,
+  uint8_t* out, const IsoSurfaces* iso = nullptr)
 {
   const int64_t n = static_cast<int64_t>(bricks[0]) * bricks[1] * bricks[2];
   if (!tf.RGBA || tf.Size <= 0)
@@ -240,7 +243,11 @@ inline void BuildOccupancy(
     const float lo = ranges[2 * b];
     const float hi = ranges[2 * b + 1];
     bool visible = false;
-    if (lo <= hi)
+    if (iso && iso->Count > 0)
+    {
+      visible = IsoInRange(*iso, tf, lo, hi); // isosurfaces: a visible value inside the range
+    }
+    else if (lo <= hi)
     {
       visible = LookupTransfer(tf, lo).Opacity > 0.f || LookupTransfer(tf, hi).Opacity > 0.f;
       const int i0 = static_cast<int>(ceilf(TableCoordinate(lo, tf.ScalarMin, tf.ScalarMax, tf.Size)));

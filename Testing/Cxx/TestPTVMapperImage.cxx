@@ -7,11 +7,13 @@
 //   head_1spp_fixedguide                 the denoiser's fixed guide (no network) on 1 spp
 //   head_clip_16spp                      a clipping plane through the centre (normal (1, .3, 0))
 //   head_crop_16spp, head_cropfence_16spp cropping: sub-volume, and fence (non-convex)
+//   head_iso_16spp                       IsoSurface blend mode: skin (-300 HU) and bone (700 HU)
 // The tracer is deterministic (seeded per pixel and frame), so the threshold only absorbs
 // OpenGL differences; a real change of the estimator moves many pixels and fails.
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkContourValues.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPlane.h"
@@ -198,6 +200,12 @@ int TestPTVMapperImage(int argc, char* argv[])
     {
       mapper->SetCroppingRegionFlagsToSubVolume();
     }
+  }
+  if (name == "head_iso_16spp")
+  {
+    mapper->SetBlendModeToIsoSurface();
+    property->GetIsoSurfaceValues()->SetValue(0, -300.0);
+    property->GetIsoSurfaceValues()->SetValue(1, 700.0);
   }
   const int frames = accumulate ? 256 : (sixteen ? 16 : 1);
   mapper->SetMaximumAccumulatedFrames(frames);

@@ -364,19 +364,29 @@ check(mapper().GetCropping() == 1 and frames() == 1
 display.UseCropping = 0
 Render(view)
 check(np.array_equal(mapper_pass("Alpha"), full_alpha), "UseCropping=0 gives the full volume")
+# Isosurface: ParaView's IsosurfaceValues become path-traced surfaces (skin and bone here).
+composite_radiance = radiance()
+display.BlendMode = "Isosurface"
+display.IsosurfaceValues = [-300.0, 700.0]
+Render(view)
+iso_alpha = mapper_pass("Alpha")
+check(frames() == 1 and (iso_alpha > 0).sum() > 0.5 * (full_alpha > 0).sum()
+      and not np.array_equal(radiance(), composite_radiance),
+      "BlendMode Isosurface + IsosurfaceValues trace the isosurfaces (%d covered pixels)"
+      % (iso_alpha > 0).sum())
 # A blend mode the path tracer does not have: exactly one warning naming it (collected here).
 from vtkmodules.vtkCommonCore import vtkLogger  # noqa: E402
 before = len(vtk_messages)
 verbosity = vtkLogger.GetCurrentVerbosityCutoff()
 vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # the stderr copy would trip ctest
-display.BlendMode = "Isosurface"
+display.BlendMode = "Slice"
 Render(view)
 Render(view)
 vtkLogger.SetStderrVerbosity(verbosity)
 blend_messages = vtk_messages[before:]
 del vtk_messages[before:]
-check(len(blend_messages) == 1 and "BlendMode IsoSurface" in blend_messages[0],
-      "BlendMode Isosurface: one warning naming it (%d messages)" % len(blend_messages))
+check(len(blend_messages) == 1 and "BlendMode Slice" in blend_messages[0],
+      "BlendMode Slice: one warning naming it (%d messages)" % len(blend_messages))
 display.BlendMode = "Composite"
 display.Seed = 0
 display.Denoise = 1
