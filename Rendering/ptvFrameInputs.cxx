@@ -30,31 +30,32 @@ constexpr int kGradientTableSize = 1024;
 // 5-8% less trace time on the three datasets; the per-brick ranges cost 8 bytes per 64 voxels.
 constexpr int kBrickSize = 4;
 
-// Copy any numeric 1-component array to float, turning non-finite values into NaN ("no data")
-// and tracking the finite range.
-struct ToFloat
+// Copy one component of any numeric array to float (out[stride * i], times scale), turning
+// non-finite values into NaN ("no data") and tracking the finite range.
+struct ChannelToFloat
 {
   template <typename ArrayT>
-  void operator()(ArrayT* array, float* out, double range[2], vtkIdType& nonFinite)
+  void operator()(ArrayT* array, int component, float scale, float* out, int stride,
+    double range[2], vtkIdType& nonFinite)
   {
-    const auto values = vtk::DataArrayValueRange<1>(array);
-    const vtkIdType n = static_cast<vtkIdType>(values.size());
+    const auto tuples = vtk::DataArrayTupleRange(array);
+    const vtkIdType n = static_cast<vtkIdType>(tuples.size());
     vtkSMPTools::For(0, n,
       [&](vtkIdType b, vtkIdType e)
       {
         for (vtkIdType i = b; i < e; ++i)
         {
-          out[i] = static_cast<float>(values[i]);
+          out[stride * i] = static_cast<float>(tuples[i][component]) * scale;
         }
       });
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     vtkIdType bad = 0;
     for (vtkIdType i = 0; i < n; ++i)
     {
-      const float v = out[i];
+      const float v = out[stride * i];
       if (!std::isfinite(v))
       {
-        out[i] = std::numeric_limits<float>::quiet_NaN();
+        out[stride * i] = std::numeric_limits<float>::quiet_NaN();
         ++bad;
         continue;
       }
@@ -67,6 +68,27 @@ struct ToFloat
   }
 };
 
+// Channel @a component of @a array into out (see ChannelToFloat), any array type.
+void CopyChannel(vtkDataArray* array, int component, float scale, float* out, int stride,
+  double range[2], vtkIdType& nonFinite)
+{
+  ChannelToFloat worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(
+        array, worker, component, scale, out, stride, range, nonFinite))
+  {
+    worker(array, component, scale, out, stride, range, nonFinite); // generic vtkDataArray path
+  }
+}
+
+// A table range that is not empty (a constant channel gets +-0.5).
+void WidenRange(double range[2])
+{
+  if (!(range[1] > range[0]))
+  {
+    range[0] -= 0.5;
+    range[1] += 0.5;
+  }
+}
 }
 
 //------------------------------------------------------------------------------
@@ -88,8 +110,8 @@ bool FrameSignature::Matches(const FrameSignature& other) const
 }
 
 //------------------------------------------------------------------------------
-bool FrameInputs::UpdateVolume(
-  vtkImageData* image, vtkDataArray* scalars, std::string& error, vtkIdType& nonFinite)
+bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool dependent,
+  std::string& error, vtkIdType& nonFinite)
 {
   nonFinite = 0;
   std::ostringstream msg;
@@ -112,12 +134,15 @@ bool FrameInputs::UpdateVolume(
             "array with SelectScalarArray)";
     return false;
   }
-  if (scalars->GetNumberOfComponents() != 1)
+  const int comps = scalars->GetNumberOfComponents();
+  if (comps != 1 && !(dependent && (comps == 2 || comps == 4)))
   {
     msg << "array '" << (scalars->GetName() ? scalars->GetName() : "(unnamed)") << "' has "
-        << scalars->GetNumberOfComponents()
-        << " components; only single-component scalars are supported (extract one with "
-           "vtkImageExtractComponents)";
+        << comps << " components; the mapper renders single-component scalars, or dependent "
+        << "colour data (vtkVolumeProperty IndependentComponents off) with 2 (colour value, "
+        << "opacity value) or 4 (red, green, blue, opacity value) components"
+        << (dependent ? "" : " (IndependentComponents is on)")
+        << "; extract one component with vtkImageExtractComponents";
     error = msg.str();
     return false;
   }
@@ -130,28 +155,53 @@ bool FrameInputs::UpdateVolume(
     return false;
   }
   const vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
-  if (scalars == this->VolumeArray && t <= this->VolumeTime && !this->Scalars.empty())
+  if (scalars == this->VolumeArray && t <= this->VolumeTime && dependent == this->Dependent &&
+    !this->Scalars.empty())
   {
     return true;
   }
+  // The opacity channel (the last component) drives opacity, gradients and the occupancy.
   this->Scalars.resize(static_cast<std::size_t>(n));
   double range[2];
-  ToFloat worker;
-  if (!vtkArrayDispatch::Dispatch::Execute(scalars, worker, this->Scalars.data(), range, nonFinite))
-  {
-    worker(scalars, this->Scalars.data(), range, nonFinite); // generic vtkDataArray path
-  }
+  CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite);
   if (nonFinite == n)
   {
     error = "every voxel is NaN or infinite: nothing to render";
     this->Scalars.clear();
     return false;
   }
-  if (range[1] <= range[0])
+  WidenRange(range);
+  // Dependent colour: the colour channel (2 components, mapped by the colour function over its
+  // own range) or RGB (4 components; unsigned char divided by 255, clamped to [0, 1]).
+  this->ColorScalars.clear();
+  this->Colors.clear();
+  vtkIdType ignored = 0;
+  if (comps == 2)
   {
-    range[0] -= 0.5;
-    range[1] += 0.5; // constant volume: a non-empty table range
+    this->ColorScalars.resize(static_cast<std::size_t>(n));
+    CopyChannel(scalars, 0, 1.0f, this->ColorScalars.data(), 1, this->ColorRange, ignored);
+    if (!std::isfinite(this->ColorRange[0]))
+    {
+      this->ColorRange[0] = 0.0;
+      this->ColorRange[1] = 1.0;
+    }
+    WidenRange(this->ColorRange);
   }
+  else if (comps == 4)
+  {
+    this->Colors.resize(3 * static_cast<std::size_t>(n));
+    const float scale = scalars->GetDataType() == VTK_UNSIGNED_CHAR ? 1.0f / 255.0f : 1.0f;
+    double unused[2];
+    for (int c = 0; c < 3; ++c)
+    {
+      CopyChannel(scalars, c, scale, this->Colors.data() + c, 3, unused, ignored);
+    }
+    for (float& v : this->Colors)
+    {
+      v = v == v ? std::min(1.0f, std::max(0.0f, v)) : 0.0f;
+    }
+  }
+  this->Dependent = dependent;
   std::copy(dims, dims + 3, this->Dims);
   std::copy(range, range + 2, this->Range);
   this->VolumeArray = scalars;
@@ -195,6 +245,32 @@ bool FrameInputs::UpdateTransfer(
       this->Range[0], this->Range[1], kTableSize, rgb.data());
   }
   property->GetScalarOpacity(0)->GetTable(this->Range[0], this->Range[1], kTableSize, alpha.data());
+  // 2-component colour data: the colour function maps the colour channel over its own range.
+  this->ColorRGBA.clear();
+  if (!this->ColorScalars.empty())
+  {
+    std::vector<float> crgb(3 * kTableSize);
+    if (property->GetColorChannels(0) == 1)
+    {
+      std::vector<float> grey(kTableSize);
+      property->GetGrayTransferFunction(0)->GetTable(
+        this->ColorRange[0], this->ColorRange[1], kTableSize, grey.data());
+      for (int i = 0; i < kTableSize; ++i)
+      {
+        crgb[3 * i] = crgb[3 * i + 1] = crgb[3 * i + 2] = grey[i];
+      }
+    }
+    else
+    {
+      property->GetRGBTransferFunction(0)->GetTable(
+        this->ColorRange[0], this->ColorRange[1], kTableSize, crgb.data());
+    }
+    this->ColorRGBA.assign(4 * kTableSize, 1.0f);
+    for (int i = 0; i < kTableSize; ++i)
+    {
+      std::copy(&crgb[3 * i], &crgb[3 * i] + 3, &this->ColorRGBA[4 * i]);
+    }
+  }
   for (int i = 0; i < kTableSize; ++i)
   {
     for (int c = 0; c < 3; ++c)
@@ -272,6 +348,18 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   VolumeGrid& g = p.Volume;
   g.Scalars = this->Scalars.data();
   std::copy(this->Dims, this->Dims + 3, g.Dims);
+  if (!this->ColorScalars.empty() && !this->ColorRGBA.empty())
+  {
+    g.ColorScalars = this->ColorScalars.data();
+    p.ColorTable.RGBA = this->ColorRGBA.data();
+    p.ColorTable.Size = kTableSize;
+    p.ColorTable.ScalarMin = static_cast<float>(this->ColorRange[0]);
+    p.ColorTable.ScalarMax = static_cast<float>(this->ColorRange[1]);
+    p.ColorTable.GradientOpacity = nullptr;
+    p.ColorTable.GradientSize = 0;
+    p.ColorTable.GradientMax = 1.0f;
+  }
+  g.Colors = this->Colors.empty() ? nullptr : this->Colors.data();
   double step = 0.0;
   if (!SetVolumeTransform(image, vol, g, step, signature, error))
   {

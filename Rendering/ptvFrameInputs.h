@@ -82,9 +82,12 @@ public:
   /**
    * Copy the scalars to float when image or array changed. Non-finite voxels become "no data"
    * (transparent); their count is returned in @a nonFinite. False + @a error on unusable input.
+   * With @a dependent (vtkVolumeProperty IndependentComponents off), 2- and 4-component arrays
+   * are colour data: the last component is the opacity channel, the others the colour (see
+   * VolumeGrid::Colors); otherwise only 1-component arrays are accepted.
    */
-  bool UpdateVolume(vtkImageData* image, vtkDataArray* scalars, std::string& error,
-    vtkIdType& nonFinite);
+  bool UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool dependent,
+    std::string& error, vtkIdType& nonFinite);
 
   /// Rebuild the transfer tables (and the occupancy grid) when the property, the skipping
   /// switch or the isosurfaces (@a iso, Count 0 for composite) changed.
@@ -112,6 +115,11 @@ private:
   std::vector<float> Scalars;
   int Dims[3] = { 0, 0, 0 };
   double Range[2] = { 0, 1 };
+  bool Dependent = false;
+  std::vector<float> ColorScalars; ///< 2-component colour data: the colour channel
+  double ColorRange[2] = { 0, 1 }; ///< its range (the colour table spans it)
+  std::vector<float> Colors;       ///< 4-component colour data: RGB per voxel
+  std::vector<float> ColorRGBA;    ///< the colour function over ColorRange (alpha unused)
 
   vtkMTimeType TransferTime = 0;
   bool TransferSkipping = false;

@@ -5,6 +5,7 @@
 #include "vtkRenderer.h"
 #include "vtkTimerLog.h"
 #include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
 
 #include <string>
 
@@ -67,7 +68,9 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   std::string error;
   vtkIdType nonFinite = 0;
-  if (!this->Inputs.UpdateVolume(image, scalars, error, nonFinite) ||
+  vtkVolumeProperty* property = vol->GetProperty();
+  const bool dependent = property && !property->GetIndependentComponents();
+  if (!this->Inputs.UpdateVolume(image, scalars, dependent, error, nonFinite) ||
     !this->Inputs.UpdateTransfer(
       vol->GetProperty(), request.Scene.EmptySpaceSkipping, request.Scene.Iso, error))
   {

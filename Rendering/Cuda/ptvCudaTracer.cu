@@ -30,6 +30,7 @@ __global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples
 struct CudaTracer::Internals
 {
   DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance, Samples;
+  DeviceBuffer Colors, ColorScalars, ColorTable; // dependent colour data (VolumeGrid::Colors)
   unsigned long long VolumeVersion = ~0ull;
   const float* VolumeHost = nullptr;
   std::vector<PixelSample> Host;
@@ -52,7 +53,7 @@ void CudaTracer::Release()
 {
   Internals& in = *this->Impl;
   for (DeviceBuffer* b : { &in.Scalars, &in.Table, &in.Gradient, &in.Bricks, &in.MaxDistance,
-         &in.Samples })
+         &in.Samples, &in.Colors, &in.ColorScalars, &in.ColorTable })
   {
     b->Free();
   }
@@ -83,6 +84,28 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
     in.VolumeHost = params.Volume.Scalars;
   }
   d.Volume.Scalars = static_cast<const float*>(in.Scalars.Ptr);
+  // Colour data is uploaded with every frame that has it (it changes with the volume only, but
+  // is rare enough that keying it separately is not worth a second version counter).
+  if (params.Volume.Colors)
+  {
+    if (!upload(in.Colors, params.Volume.Colors, 3 * voxels * sizeof(float), "colour upload"))
+    {
+      return false;
+    }
+    d.Volume.Colors = static_cast<const float*>(in.Colors.Ptr);
+  }
+  if (params.Volume.ColorScalars)
+  {
+    if (!upload(in.ColorScalars, params.Volume.ColorScalars, voxels * sizeof(float),
+          "colour channel upload") ||
+      !upload(in.ColorTable, params.ColorTable.RGBA, 4 * sizeof(float) * params.ColorTable.Size,
+        "colour table upload"))
+    {
+      return false;
+    }
+    d.Volume.ColorScalars = static_cast<const float*>(in.ColorScalars.Ptr);
+    d.ColorTable.RGBA = static_cast<const float*>(in.ColorTable.Ptr);
+  }
   if (!upload(in.Table, params.Transfer.RGBA, 4 * sizeof(float) * params.Transfer.Size,
         "transfer table upload"))
   {

@@ -98,6 +98,7 @@ struct TraceParams
   OccupancyGrid Occupancy; ///< Occupancy.SkipDistance == nullptr: no skipping
   ClipRegion Clip;         ///< clipping planes and cropping (ptvClipping.h); default: none
   IsoSurfaces Iso;         ///< Iso.Count > 0: isosurfaces instead of the composite medium
+  TransferTable ColorTable; ///< colours of Volume.ColorScalars (2-component data); else unused
   CameraRays Camera;
   Light KeyLight;
   Vec3 Environment;      ///< uniform environment radiance
@@ -257,6 +258,30 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
   }
 }
 
+/// Colour from dependent colour data at an index-space point (see VolumeGrid::Colors), or
+/// @a fallback (the transfer function's colour) without such data.
+PTV_HD PTV_INLINE Vec3 SampleColor(const TraceParams& p, Vec3 pIdx, Vec3 fallback)
+{
+  const VolumeGrid& g = p.Volume;
+  if (g.ColorScalars)
+  {
+    const float c = p.Nearest ? SampleNearestArray(g, g.ColorScalars, 1, pIdx)
+                              : SampleTrilinearArray(g, g.ColorScalars, 1, pIdx);
+    return LookupTransfer(p.ColorTable, c).Color;
+  }
+  if (g.Colors)
+  {
+    float rgb[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      rgb[c] = p.Nearest ? SampleNearestArray(g, g.Colors + c, 3, pIdx)
+                         : SampleTrilinearArray(g, g.Colors + c, 3, pIdx);
+    }
+    return MakeVec3(rgb[0], rgb[1], rgb[2]);
+  }
+  return fallback;
+}
+
 /// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
 /// gradient-opacity factor.
 PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
@@ -272,6 +297,10 @@ PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
   {
     const Vec3 gWorld = MultiplyMatrix3(p.Volume.NormalToWorld, GradientIndex(p.Volume, pIdx));
     ts.Opacity *= LookupGradientOpacity(p.Transfer, Length(gWorld));
+  }
+  if (ts.Opacity > 0.f)
+  {
+    ts.Color = SampleColor(p, pIdx, ts.Color);
   }
   return ts;
 }
@@ -543,14 +572,16 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
               return false;
             }
             const Vec3 hit = origin + dir * tHit;
-            const Vec3 n = ShadingNormal(p, oIdx + dIdx * tHit, dir);
+            const Vec3 hitIdx = oIdx + dIdx * tHit;
+            const Vec3 n = ShadingNormal(p, hitIdx, dir);
+            const Vec3 color = SampleColor(p, hitIdx, ts.Color);
             if (!haveFirst)
             {
               haveFirst = true;
               out.Depth1 = tHit;
               out.Position1 = hit;
               out.Normal1 = n;
-              out.Albedo = ts.Color;
+              out.Albedo = color;
             }
             T *= 1.f - ts.Opacity;
             if (p.Scattering && 1.f - T < threshold)
@@ -561,7 +592,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
             out.Depth2 = tHit;
             out.Position2 = hit;
             out.Normal2 = n;
-            out.Radiance = ShadeEvent(p, hit, dir, ts.Color, n, rng);
+            out.Radiance = ShadeEvent(p, hit, dir, color, n, rng);
             return true;
           });
       });

@@ -29,6 +29,12 @@ struct VolumeGrid
   int Dims[3];           ///< voxel counts, each >= 1
   float WorldToIndex[12]; ///< row-major 3x4 affine: index = M world + t
   float NormalToWorld[9]; ///< row-major 3x3 (A^{-1})^T = M^T: index gradient -> world gradient
+  /// Dependent colour data (vtkVolumeProperty IndependentComponents off), same layout as
+  /// Scalars, which then hold the opacity channel: RGB in [0, 1] per voxel (3 floats, 4-component
+  /// data), or the colour channel mapped by TraceParams::ColorTable (1 float, 2-component data).
+  /// nullptr when the colour comes from the transfer function of Scalars.
+  const float* Colors = nullptr;
+  const float* ColorScalars = nullptr;
 };
 
 /// m * (p, 1) for a row-major 3x4 matrix.
@@ -85,8 +91,10 @@ PTV_HD PTV_INLINE void CellCoordinate(float x, int n, int& i0, int& i1, float& f
   f = xc - static_cast<float>(i0);
 }
 
-/// Trilinear interpolation at an index-space point, clamp-to-edge outside [0, Dims-1].
-PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
+/// Trilinear interpolation of channel data[stride * voxel] at an index-space point,
+/// clamp-to-edge outside [0, Dims-1].
+PTV_HD PTV_INLINE float SampleTrilinearArray(
+  const VolumeGrid& g, const float* data, int stride, Vec3 p)
 {
   int i0, i1, j0, j1, k0, k1;
   float fx, fy, fz;
@@ -96,10 +104,10 @@ PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
   // The eight corners as offsets from the lower one (the same values VoxelValue() reads).
   const int64_t row = g.Dims[0];
   const int64_t slice = row * g.Dims[1];
-  const float* v = g.Scalars + (i0 + row * j0 + slice * k0);
-  const int64_t ox = i1 - i0;
-  const int64_t oy = row * (j1 - j0);
-  const int64_t oz = slice * (k1 - k0);
+  const float* v = data + stride * (i0 + row * j0 + slice * k0);
+  const int64_t ox = stride * (i1 - i0);
+  const int64_t oy = stride * row * (j1 - j0);
+  const int64_t oz = stride * slice * (k1 - k0);
   const float c00 = Lerp(v[0], v[ox], fx);
   const float c10 = Lerp(v[oy], v[oy + ox], fx);
   const float c01 = Lerp(v[oz], v[oz + ox], fx);
@@ -107,13 +115,29 @@ PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
   return Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
 }
 
-/// Value of the voxel nearest to an index-space point (clamped to the grid).
-PTV_HD PTV_INLINE float SampleNearest(const VolumeGrid& g, Vec3 p)
+/// Trilinear interpolation of the scalars at an index-space point (clamp-to-edge).
+PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
+{
+  return SampleTrilinearArray(g, g.Scalars, 1, p);
+}
+
+/// Channel data[stride * voxel] of the voxel nearest to an index-space point (clamped).
+PTV_HD PTV_INLINE float SampleNearestArray(
+  const VolumeGrid& g, const float* data, int stride, Vec3 p)
 {
   const int i = static_cast<int>(Clamp(p.x + 0.5f, 0.f, static_cast<float>(g.Dims[0] - 1)));
   const int j = static_cast<int>(Clamp(p.y + 0.5f, 0.f, static_cast<float>(g.Dims[1] - 1)));
   const int k = static_cast<int>(Clamp(p.z + 0.5f, 0.f, static_cast<float>(g.Dims[2] - 1)));
-  return VoxelValue(g, i, j, k);
+  return data[stride *
+    (static_cast<int64_t>(i) +
+      static_cast<int64_t>(g.Dims[0]) *
+        (static_cast<int64_t>(j) + static_cast<int64_t>(g.Dims[1]) * k))];
+}
+
+/// Value of the voxel nearest to an index-space point (clamped to the grid).
+PTV_HD PTV_INLINE float SampleNearest(const VolumeGrid& g, Vec3 p)
+{
+  return SampleNearestArray(g, g.Scalars, 1, p);
 }
 
 /**

@@ -8,7 +8,9 @@
 //  - clipping planes and cropping cut the volume (kept side, restarts, bad planes reported and
 //    ignored); every blend mode but Composite and IsoSurface gives exactly one warning naming it;
 //  - IsoSurface draws the property's iso values (restarts, skipping exact, bad values warned,
-//    the iso-10 sphere of a distance field at the right depth).
+//    the iso-10 sphere of a distance field at the right depth);
+//  - dependent colour data (IndependentComponents off: RGB + opacity, colour value + opacity)
+//    gives the data's colours; 3 components or independent components are errors.
 #include "ptvTestCheck.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -27,6 +29,7 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
 #include "vtkTestErrorObserver.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -547,6 +550,107 @@ void TestIsosurface()
   Check(std::fabs(centre - 40.f) < 0.1f, "the iso-10 sphere of a distance field is at depth 40");
 }
 
+// A 24^3 ball of colour data: last component = opacity channel (255 inside radius 9, else 0),
+// colour from x (red ramp, 4 components) or the colour channel = x (2 components).
+vtkSmartPointer<vtkImageData> ColourBall(int comps)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(24, 24, 24);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, comps);
+  auto* v = static_cast<unsigned char*>(image->GetScalarPointer());
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i)
+      {
+        unsigned char* t = v + comps * (i + 24 * (j + 24 * k));
+        const double r2 = (i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5);
+        const unsigned char red = static_cast<unsigned char>(i * 255 / 23);
+        if (comps == 4)
+        {
+          t[0] = red;
+          t[1] = 40;
+          t[2] = static_cast<unsigned char>(255 - red);
+        }
+        else
+        {
+          t[0] = static_cast<unsigned char>(i);
+        }
+        t[comps - 1] = r2 < 81.0 ? 255 : 0;
+      }
+  return image;
+}
+
+void TestColourVolumes()
+{
+  for (int comps : { 4, 2 })
+  {
+    Scene s(48);
+    s.Mapper->SetInputData(ColourBall(comps));
+    s.Property->IndependentComponentsOff();
+    s.Property->SetInterpolationTypeToLinear();
+    s.Opacity->RemoveAllPoints();
+    s.Opacity->AddPoint(0, 0.0);
+    s.Opacity->AddPoint(100, 0.0);
+    s.Opacity->AddPoint(200, 1.0);
+    s.Color->RemoveAllPoints(); // 2 components: blue at x = 0 to red at x = 23
+    s.Color->AddRGBPoint(0, 0.0, 0.16, 1.0);
+    s.Color->AddRGBPoint(23, 1.0, 0.16, 0.0);
+    s.Renderer->GetActiveCamera()->SetPosition(11.5, 11.5, 80);
+    s.Renderer->GetActiveCamera()->SetFocalPoint(11.5, 11.5, 11.5);
+    s.Renderer->GetActiveCamera()->SetViewUp(0, 1, 0);
+    s.Renderer->ResetCamera();
+    vtkNew<vtkTest::ErrorObserver> obs;
+    s.Mapper->AddObserver(vtkCommand::ErrorEvent, obs);
+    s.Window->Render();
+    Check(!obs->GetError(), std::to_string(comps) + "-component colour data renders");
+    const auto albedo = s.Pass("Albedo");
+    const auto depth = s.Pass("Depth");
+    double left = 0, right = 0, green = 0;
+    int nl = 0, nr = 0;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x)
+      {
+        const int i = y * 48 + x;
+        if (albedo.empty() || !(depth[i] < 1e6f) || (albedo[3 * i] == 0 && albedo[3 * i + 2] == 0))
+          continue;
+        (x < 24 ? left : right) += albedo[3 * i];
+        (x < 24 ? nl : nr) += 1;
+        green += albedo[3 * i + 1];
+      }
+    std::cout << comps << " components: mean red left " << left / std::max(nl, 1) << ", right "
+              << right / std::max(nr, 1) << ", green " << green / std::max(nl + nr, 1) << "\n";
+    Check(nl > 20 && nr > 20 && right / nr > left / nl + 0.3,
+      std::to_string(comps) + " components: the colour follows the data (red grows with x)");
+    Check(std::fabs(green / (nl + nr) - 40.0 / 255.0) < 0.02 ||
+        std::fabs(green / (nl + nr) - 0.16) < 0.02,
+      std::to_string(comps) + " components: green is the data's / the colour function's");
+  }
+  // 3 dependent components, or colour data with IndependentComponents on: errors.
+  for (bool dependent : { true, false })
+  {
+    Scene s(32);
+    s.Mapper->SetInputData(ColourBall(dependent ? 4 : 4));
+    if (!dependent)
+    {
+      s.Property->IndependentComponentsOn();
+    }
+    else
+    {
+      auto three = vtkSmartPointer<vtkImageData>::New();
+      three->SetDimensions(4, 4, 4);
+      three->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+      s.Mapper->SetInputData(three);
+      s.Property->IndependentComponentsOff();
+    }
+    vtkNew<vtkTest::ErrorObserver> obs;
+    s.Mapper->AddObserver(vtkCommand::ErrorEvent, obs);
+    s.Window->Render();
+    Check(obs->CheckErrorMessage(dependent ? "has 3 components" : "IndependentComponents is on") ==
+        0,
+      dependent ? "3 dependent components: error" : "independent colour data: error");
+  }
+}
+
 int TestPTVMapperBehavior(int, char*[])
 {
   TestAccumulation();
@@ -557,5 +661,6 @@ int TestPTVMapperBehavior(int, char*[])
   TestClippingCropping();
   TestBlendModes();
   TestIsosurface();
+  TestColourVolumes();
   return TestResult();
 }

@@ -8,6 +8,9 @@
 //   head_clip_16spp                      a clipping plane through the centre (normal (1, .3, 0))
 //   head_crop_16spp, head_cropfence_16spp cropping: sub-volume, and fence (non-convex)
 //   head_iso_16spp                       IsoSurface blend mode: skin (-300 HU) and bone (700 HU)
+//   rgba_16spp                           dependent RGBA colour data (IndependentComponents off):
+//                                        colour from position, opacity channel from the
+//                                        synthetic source
 // The tracer is deterministic (seeded per pixel and frame), so the threshold only absorbs
 // OpenGL differences; a real change of the estimator moves many pixels and fails.
 #include "vtkActor.h"
@@ -15,6 +18,8 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkContourValues.h"
 #include "vtkImageData.h"
+#include "vtkPointData.h"
+#include "vtkDataArray.h"
 #include "vtkNew.h"
 #include "vtkPlane.h"
 #include "vtkPTVTransferFunctionPreset.h"
@@ -31,6 +36,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkXMLImageDataReader.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -101,6 +107,7 @@ int TestPTVMapperImage(int argc, char* argv[])
   property->SetInterpolationTypeToLinear();
   property->ShadeOn();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
+  vtkNew<vtkImageData> rgba; // the rgba case's input
   mapper->SetSeed(7);
   mapper->SetDenoise(name == "head_1spp_fixedguide"); // tracer images are compared undenoised
   mapper->DenoiserUseNetworkOff(); // the fixed guide does not change when a model ships
@@ -122,6 +129,38 @@ int TestPTVMapperImage(int argc, char* argv[])
     {
       return EXIT_FAILURE;
     }
+  }
+  else if (name == "rgba_16spp")
+  {
+    // RGB from the position, the opacity channel = the synthetic source mapped to 0..255.
+    vtkNew<vtkRTAnalyticSource> source;
+    source->SetWholeExtent(-24, 24, -24, 24, -24, 24);
+    source->Update();
+    vtkDataArray* values = source->GetOutput()->GetPointData()->GetScalars();
+    rgba->SetExtent(-24, 24, -24, 24, -24, 24);
+    rgba->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
+    auto* v = static_cast<unsigned char*>(rgba->GetScalarPointer());
+    for (int k = 0; k < 49; ++k)
+      for (int j = 0; j < 49; ++j)
+        for (int i = 0; i < 49; ++i)
+        {
+          const vtkIdType id = i + 49 * (j + 49 * k);
+          unsigned char* t = v + 4 * id;
+          t[0] = static_cast<unsigned char>(i * 255 / 48);
+          t[1] = static_cast<unsigned char>(j * 255 / 48);
+          t[2] = static_cast<unsigned char>(255 - k * 255 / 48);
+          const double a = (values->GetTuple1(id) - 37.0) / (277.0 - 37.0);
+          t[3] = static_cast<unsigned char>(255.0 * std::min(1.0, std::max(0.0, a)));
+        }
+    mapper->SetInputData(rgba);
+    property->IndependentComponentsOff();
+    vtkNew<vtkPiecewiseFunction> opacity;
+    opacity->AddPoint(0, 0.0);
+    opacity->AddPoint(120, 0.0);
+    opacity->AddPoint(200, 0.8);
+    opacity->AddPoint(255, 0.8);
+    property->SetScalarOpacity(opacity);
+    property->SetScalarOpacityUnitDistance(2.0);
   }
   else
   {
