@@ -392,6 +392,54 @@ display.Seed = 0
 display.Denoise = 1
 display.MaximumAccumulatedFrames = 4
 
+# --- 2d''. colour data: MapScalars off + MultiComponentsMapping on = dependent RGBA -------------
+rgba_source = ProgrammableSource(OutputDataSetType="vtkImageData")
+rgba_source.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+out = self.GetOutput()
+out.SetDimensions(24, 24, 24)
+k, j, i = np.mgrid[0:24, 0:24, 0:24]
+a = np.zeros((24, 24, 24, 4), np.uint8)
+a[..., 0] = i * 255 // 23
+a[..., 1] = 40
+a[..., 2] = 128
+a[..., 3] = np.where((i - 11.5)**2 + (j - 11.5)**2 + (k - 11.5)**2 < 81, 255, 0)
+array = numpy_to_vtk(a.reshape(-1, 4), deep=1)
+array.SetName("rgba")
+out.GetPointData().SetScalars(array)
+"""
+rgba_source.ScriptRequestInformation = """
+executive = self.GetExecutive()
+executive.GetOutputInformation(0).Set(executive.WHOLE_EXTENT(), 0, 23, 0, 23, 0, 23)
+"""
+Hide(reader, view)
+rgba_display = Show(rgba_source, view)
+rgba_display.SetRepresentationType("Path Traced Volume")
+ColorBy(rgba_display, ("POINTS", "rgba"))
+rgba_display.MapScalars = 0
+rgba_display.MultiComponentsMapping = 1
+rgba_display.Denoise = 0
+view.ResetCamera()
+Render(view)
+rgba_mapper = rgba_display.GetClientSideObject().GetActiveRepresentation().GetActor().GetMapper()
+albedo_image = vtkImageData()
+albedo = None
+if rgba_mapper.GetPass("Albedo", albedo_image):
+    albedo = vtk_to_numpy(albedo_image.GetPointData().GetArray("Albedo")).reshape(-1, 3)
+    albedo = albedo[albedo.sum(axis=1) > 0]
+print("RGBA colour data: %s covered pixels, mean albedo %s"
+      % (None if albedo is None else len(albedo), None if albedo is None else albedo.mean(axis=0)))
+check(albedo is not None and len(albedo) > 100
+      and abs(albedo[:, 1].mean() - 40 / 255) < 0.01 and abs(albedo[:, 2].mean() - 128 / 255) < 0.01,
+      "MapScalars=0 + MultiComponentsMapping=1: the data's RGB colours the volume")
+Hide(rgba_source, view)
+Show(reader, view)
+camera.SetPosition(0, -1, 0)
+camera.SetFocalPoint(0, 0, 0)
+camera.SetViewUp(0, 0, 1)
+view.ResetCamera()
+
 # --- 2e. the network: the shipped model must load (a missing model fails the test) --------------
 display.DenoiserUseNetwork = 1
 render_until_converged()
