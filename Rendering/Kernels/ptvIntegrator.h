@@ -286,14 +286,18 @@ PTV_HD PTV_INLINE Vec3 SampleColor(const TraceParams& p, Vec3 pIdx, Vec3 fallbac
 /// gradient-opacity factor.
 PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
 {
+  const float s =
+    p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
+  TransferSample ts = LookupTransfer(p.Transfer, s);
+  if (!(ts.Opacity > 0.f))
+  {
+    return ts; // transparent whether or not the point is cut away
+  }
   if (HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx))
   {
     return TransferSample{ MakeVec3(0.f, 0.f, 0.f), 0.f }; // cut away: transparent
   }
-  const float s =
-    p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
-  TransferSample ts = LookupTransfer(p.Transfer, s);
-  if (ts.Opacity > 0.f && HasGradientOpacity(p.Transfer))
+  if (HasGradientOpacity(p.Transfer))
   {
     const Vec3 gWorld = MultiplyMatrix3(p.Volume.NormalToWorld, GradientIndex(p.Volume, pIdx));
     ts.Opacity *= LookupGradientOpacity(p.Transfer, Length(gWorld));
@@ -362,6 +366,47 @@ PTV_HD PTV_INLINE float StepOverUnit(const TraceParams& p, float step)
   return p.UnitDistance > 0.f ? step / p.UnitDistance : 1.f;
 }
 
+/// Russian roulette while T < kRouletteThreshold: survive with probability 1/2 and double T
+/// (unbiased); returns false (and T = 0) when the ray ends.
+PTV_HD PTV_INLINE bool Roulette(float& T, Rng& rng)
+{
+  while (T < kRouletteThreshold)
+  {
+    if (NextFloat(rng) >= 0.5f)
+    {
+      T = 0.f;
+      return false;
+    }
+    T *= 2.f;
+  }
+  return true;
+}
+
+/// EstimateTransmittance() through isosurfaces: 1 - alpha per crossing, one-voxel steps
+/// (ptvIsosurface.h); [tStart, tEnd] already clipped, xi the march jitter.
+PTV_HD PTV_INLINE PTV_NOINLINE float EstimateTransmittanceIso(const TraceParams& p, Vec3 oIdx, Vec3 dIdx,
+  float tStart, float tEnd, float xi, Rng& rng)
+{
+  float T = 1.f;
+  IsoStep iso;
+  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, p.StepWorld,
+    [&](int k, float t, Vec3 pIdx)
+    {
+      return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
+        [&](float, float v)
+        {
+          T *= 1.f - LookupTransfer(p.Transfer, v).Opacity;
+          if (!(T > 0.f))
+          {
+            T = 0.f;
+            return true;
+          }
+          return !Roulette(T, rng);
+        });
+    });
+  return T;
+}
+
 /**
  * Unbiased transmittance estimate from world point x along unit direction w up to distance
  * tMax (or the box exit): jittered march with step StepWorld * ShadowStepScale, empty-space
@@ -372,7 +417,6 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
 {
   const float xi = NextFloat(rng);
   const float step = p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
-  const float isoStep = p.StepWorld; // isosurfaces: one-voxel steps (ptvIsosurface.h)
   const float stepOverUnit = StepOverUnit(p, step);
   const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, x);
   const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, w);
@@ -388,34 +432,9 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
     return 1.f; // the ray meets no kept point
   }
   float T = 1.f;
-  // Russian roulette after an absorbing event: false ends the ray (T = 0).
-  auto survive = [&]()
-  {
-    while (T < kRouletteThreshold)
-    {
-      if (NextFloat(rng) >= 0.5f)
-      {
-        T = 0.f;
-        return false;
-      }
-      T *= 2.f;
-    }
-    return true;
-  };
   if (p.Iso.Count > 0)
   {
-    IsoStep iso;
-    March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, isoStep,
-      [&](int k, float t, Vec3 pIdx)
-      {
-        return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
-          [&](float, float v)
-          {
-            T *= 1.f - LookupTransfer(p.Transfer, v).Opacity;
-            return !(T > 0.f) ? (T = 0.f, true) : !survive();
-          });
-      });
-    return T;
+    return EstimateTransmittanceIso(p, oIdx, dIdx, tStart, tEnd, xi, rng);
   }
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
     [&](int, float, Vec3 pIdx)
@@ -429,7 +448,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
           T = 0.f;
           return true;
         }
-        return !survive();
+        return !Roulette(T, rng);
       }
       return false;
     });
@@ -515,6 +534,54 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
   return radiance;
 }
 
+/// The camera ray of TracePixel() through isosurfaces (ptvIsosurface.h), filling @a out.
+PTV_HD PTV_INLINE PTV_NOINLINE void TraceIsoSurfaces(const TraceParams& p, Vec3 origin, Vec3 dir, Vec3 oIdx,
+  Vec3 dIdx, float tStart, float tEnd, float xi, float threshold, Rng& rng, PixelSample& out)
+{
+  const float step = p.StepWorld;
+  float T = 1.f;
+  bool haveFirst = false;
+  // Isosurfaces: the first crossing is the first event; a surface of opacity alpha scatters
+  // when 1 - T >= threshold after T *= 1 - alpha (ptvIsosurface.h).
+  IsoStep iso;
+  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+    [&](int k, float t, Vec3 pIdx)
+    {
+      return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
+        [&](float tHit, float v)
+        {
+          const TransferSample ts = LookupTransfer(p.Transfer, v);
+          if (!(ts.Opacity > 0.f))
+          {
+            return false;
+          }
+          const Vec3 hit = origin + dir * tHit;
+          const Vec3 hitIdx = oIdx + dIdx * tHit;
+          const Vec3 n = ShadingNormal(p, hitIdx, dir);
+          const Vec3 color = SampleColor(p, hitIdx, ts.Color);
+          if (!haveFirst)
+          {
+            haveFirst = true;
+            out.Depth1 = tHit;
+            out.Position1 = hit;
+            out.Normal1 = n;
+            out.Albedo = color;
+          }
+          T *= 1.f - ts.Opacity;
+          if (p.Scattering && 1.f - T < threshold)
+          {
+            return false;
+          }
+          out.Alpha = 1.f;
+          out.Depth2 = tHit;
+          out.Position2 = hit;
+          out.Normal2 = n;
+          out.Radiance = ShadeEvent(p, hit, dir, color, n, rng);
+          return true;
+        });
+    });
+}
+
 /// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
 /// comment; p.Frame is not read).
 PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
@@ -557,45 +624,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   bool haveFirst = false;
   if (p.Iso.Count > 0)
   {
-    // Isosurfaces: the first crossing is the first event; a surface of opacity alpha scatters
-    // when 1 - T >= threshold after T *= 1 - alpha (ptvIsosurface.h).
-    IsoStep iso;
-    March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
-      [&](int k, float t, Vec3 pIdx)
-      {
-        return iso.Advance(p.Iso, k, t, IsoScalar(p, pIdx),
-          [&](float tHit, float v)
-          {
-            const TransferSample ts = LookupTransfer(p.Transfer, v);
-            if (!(ts.Opacity > 0.f))
-            {
-              return false;
-            }
-            const Vec3 hit = origin + dir * tHit;
-            const Vec3 hitIdx = oIdx + dIdx * tHit;
-            const Vec3 n = ShadingNormal(p, hitIdx, dir);
-            const Vec3 color = SampleColor(p, hitIdx, ts.Color);
-            if (!haveFirst)
-            {
-              haveFirst = true;
-              out.Depth1 = tHit;
-              out.Position1 = hit;
-              out.Normal1 = n;
-              out.Albedo = color;
-            }
-            T *= 1.f - ts.Opacity;
-            if (p.Scattering && 1.f - T < threshold)
-            {
-              return false;
-            }
-            out.Alpha = 1.f;
-            out.Depth2 = tHit;
-            out.Position2 = hit;
-            out.Normal2 = n;
-            out.Radiance = ShadeEvent(p, hit, dir, color, n, rng);
-            return true;
-          });
-      });
+    TraceIsoSurfaces(p, origin, dir, oIdx, dIdx, tStart, tEnd, xi, threshold, rng, out);
     return out;
   }
   const float stepOverUnit = StepOverUnit(p, step);

@@ -28,6 +28,16 @@
 #define PTV_INLINE inline
 #endif
 
+/// Keeps a rarely used path (e.g. isosurfaces) out of the hot, fully inlined composite march:
+/// the CPU driver inlines everything else into one function per instruction set.
+#if defined(__CUDACC__)
+#define PTV_NOINLINE __noinline__
+#elif defined(__GNUC__)
+#define PTV_NOINLINE __attribute__((noinline))
+#else
+#define PTV_NOINLINE
+#endif
+
 namespace ptv
 {
 constexpr float kPi = 3.14159265358979323846f;
