@@ -80,6 +80,24 @@ void CopyChannel(vtkDataArray* array, int component, float scale, float* out, in
   }
 }
 
+// The property's colour (or grey) function at kTableSize points over [range[0], range[1]] as RGB.
+void SampleColorFunction(vtkVolumeProperty* property, const double range[2], float* rgb)
+{
+  if (property->GetColorChannels(0) == 1)
+  {
+    std::vector<float> grey(kTableSize);
+    property->GetGrayTransferFunction(0)->GetTable(range[0], range[1], kTableSize, grey.data());
+    for (int i = 0; i < kTableSize; ++i)
+    {
+      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = grey[i];
+    }
+  }
+  else
+  {
+    property->GetRGBTransferFunction(0)->GetTable(range[0], range[1], kTableSize, rgb);
+  }
+}
+
 // A table range that is not empty (a constant channel gets +-0.5).
 void WidenRange(double range[2])
 {
@@ -230,41 +248,14 @@ bool FrameInputs::UpdateTransfer(
   this->OccupancyIso = iso;
   this->RGBA.assign(4 * kTableSize, 0.0f);
   std::vector<float> rgb(3 * kTableSize), alpha(kTableSize);
-  if (property->GetColorChannels(0) == 1)
-  {
-    property->GetGrayTransferFunction(0)->GetTable(
-      this->Range[0], this->Range[1], kTableSize, alpha.data());
-    for (int i = 0; i < kTableSize; ++i)
-    {
-      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = alpha[i];
-    }
-  }
-  else
-  {
-    property->GetRGBTransferFunction(0)->GetTable(
-      this->Range[0], this->Range[1], kTableSize, rgb.data());
-  }
+  SampleColorFunction(property, this->Range, rgb.data());
   property->GetScalarOpacity(0)->GetTable(this->Range[0], this->Range[1], kTableSize, alpha.data());
   // 2-component colour data: the colour function maps the colour channel over its own range.
   this->ColorRGBA.clear();
   if (!this->ColorScalars.empty())
   {
     std::vector<float> crgb(3 * kTableSize);
-    if (property->GetColorChannels(0) == 1)
-    {
-      std::vector<float> grey(kTableSize);
-      property->GetGrayTransferFunction(0)->GetTable(
-        this->ColorRange[0], this->ColorRange[1], kTableSize, grey.data());
-      for (int i = 0; i < kTableSize; ++i)
-      {
-        crgb[3 * i] = crgb[3 * i + 1] = crgb[3 * i + 2] = grey[i];
-      }
-    }
-    else
-    {
-      property->GetRGBTransferFunction(0)->GetTable(
-        this->ColorRange[0], this->ColorRange[1], kTableSize, crgb.data());
-    }
+    SampleColorFunction(property, this->ColorRange, crgb.data());
     this->ColorRGBA.assign(4 * kTableSize, 1.0f);
     for (int i = 0; i < kTableSize; ++i)
     {

@@ -19,6 +19,7 @@
 #define ptvClipping_h
 
 #include "ptvKernelCommon.h"
+#include "ptvVolumeGrid.h"
 
 namespace ptv
 {
@@ -99,28 +100,11 @@ PTV_HD PTV_INLINE bool ClipInterval(const ClipRegion& c, Vec3 o, Vec3 d, float& 
   }
   if (c.Cropping && c.CropFlags == (1 << 13))
   {
-    const float ov[3] = { o.x, o.y, o.z };
-    const float dv[3] = { d.x, d.y, d.z };
-    for (int a = 0; a < 3; ++a)
+    if (!ClipSlab(o.x, d.x, c.CropPlanes[0], c.CropPlanes[1], t0, t1) ||
+      !ClipSlab(o.y, d.y, c.CropPlanes[2], c.CropPlanes[3], t0, t1) ||
+      !ClipSlab(o.z, d.z, c.CropPlanes[4], c.CropPlanes[5], t0, t1))
     {
-      const float lo = c.CropPlanes[2 * a], hi = c.CropPlanes[2 * a + 1];
-      if (dv[a] == 0.f)
-      {
-        if (!(ov[a] >= lo && ov[a] <= hi))
-        {
-          return false;
-        }
-        continue;
-      }
-      float ta = (lo - ov[a]) / dv[a], tb = (hi - ov[a]) / dv[a];
-      if (ta > tb)
-      {
-        const float tmp = ta;
-        ta = tb;
-        tb = tmp;
-      }
-      t0 = Max(t0, ta);
-      t1 = Min(t1, tb);
+      return false;
     }
   }
   return t0 < t1;
