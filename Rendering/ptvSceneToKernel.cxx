@@ -28,10 +28,8 @@ Vec3 ToVec3(const double v[3])
 }
 
 //------------------------------------------------------------------------------
-bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, double& step,
-  FrameSignature& signature, std::string& error)
+std::string NonFiniteGeometry(vtkImageData* image)
 {
-  // Index -> world: volume matrix * (origin + direction * diag(spacing) * (extent min + ijk)).
   double spacing[3], origin[3];
   image->GetSpacing(spacing);
   image->GetOrigin(origin);
@@ -42,10 +40,25 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
       std::ostringstream msg;
       msg << "non-finite image " << v.first << " (" << v.second[0] << ", " << v.second[1] << ", "
           << v.second[2] << ")";
-      error = msg.str();
-      return false;
+      return msg.str();
     }
   }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, double& step,
+  FrameSignature& signature, std::string& error)
+{
+  // Index -> world: volume matrix * (origin + direction * diag(spacing) * (extent min + ijk)).
+  error = NonFiniteGeometry(image);
+  if (!error.empty())
+  {
+    return false;
+  }
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
   if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0)
   {
     std::ostringstream msg;

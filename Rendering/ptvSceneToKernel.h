@@ -20,6 +20,9 @@ class vtkVolume;
 
 namespace ptv
 {
+/// "non-finite image spacing (nan, 1, 1)" or "... origin (...)" for such an image, else "".
+std::string NonFiniteGeometry(vtkImageData* image);
+
 /**
  * Index -> world of @a image placed by @a vol (volume matrix * (origin + direction *
  * diag(spacing) * ijk)) into @a g's WorldToIndex and NormalToWorld; @a step receives the

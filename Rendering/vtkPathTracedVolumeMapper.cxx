@@ -4,6 +4,7 @@
 #include "ptvCpuTracer.h"
 #include "ptvFrameLoop.h"
 #include "ptvKernelDispatch.h"
+#include "ptvSceneToKernel.h"
 
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
@@ -327,18 +328,10 @@ double* vtkPathTracedVolumeMapper::GetBounds()
   }
   std::ostringstream msg;
   vtkImageData* image = vtkImageData::SafeDownCast(this->GetDataSetInput());
-  const double* spacing = image ? image->GetSpacing() : nullptr;
-  const double* origin = image ? image->GetOrigin() : nullptr;
-  auto allFinite = [](const double* v) { return std::isfinite(v[0] + v[1] + v[2]); };
-  if (spacing && !allFinite(spacing))
+  const std::string geometry = image ? ptv::NonFiniteGeometry(image) : std::string();
+  if (!geometry.empty())
   {
-    msg << "non-finite image spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-        << "): nothing is rendered";
-  }
-  else if (origin && !allFinite(origin))
-  {
-    msg << "non-finite image origin (" << origin[0] << ", " << origin[1] << ", " << origin[2]
-        << "): nothing is rendered";
+    msg << geometry << ": nothing is rendered";
   }
   else
   {
