@@ -6,6 +6,7 @@ set(ptv_filters_classes
   vtkPTVEXRPassReader
   vtkPTVEXRPassWriter)
 set(ptv_filters_private_headers
+  ptvAtomicWrite.h
   ptvBoundedReader.h
   ptvEXRChannels.h
   ptvEXRLayout.h
@@ -14,6 +15,7 @@ set(ptv_filters_private_headers
   ptvOpenVDBTree.h
   ptvQuote.h)
 set(ptv_filters_sources
+  ptvAtomicWrite.cxx
   ptvEXRChannels.cxx
   ptvEXRLayout.cxx
   ptvOpenVDBGrid.cxx

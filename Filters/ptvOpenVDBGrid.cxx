@@ -1,6 +1,7 @@
 // With ptvOpenVDBLayout.cxx, the only translation units that include OpenVDB headers
 // (see ptvOpenVDBGrid.h).
 #include "ptvOpenVDBGrid.h"
+#include "ptvAtomicWrite.h"
 #include "ptvOpenVDBLayout.h"
 #include "ptvQuote.h"
 
@@ -22,7 +23,6 @@
 #include <mutex>
 #include <sstream>
 
-#include <unistd.h> // for getpid
 
 namespace ptv
 {
@@ -357,40 +357,17 @@ bool WriteGridsAtomically(
     error = "no file name given";
     return false;
   }
-  const std::string tmp = file + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
-  // Create the temporary file ourselves first: OpenVDB's message does not carry the OS error.
-  std::FILE* probe = std::fopen(tmp.c_str(), "wb");
-  if (!probe)
+  const WriteStep failed = WriteAtomically(file,
+    [&](const std::string& tmp)
+    {
+      openvdb::io::File out(tmp);
+      out.write(grids);
+      out.close();
+    },
+    error);
+  if (failed != WriteStep::None)
   {
-    error = "cannot write " + Quote(file) + ": cannot create " + Quote(tmp) + ": " +
-      std::strerror(errno);
-    return false;
-  }
-  std::fclose(probe);
-  try
-  {
-    openvdb::io::File out(tmp);
-    out.write(grids);
-    out.close();
-  }
-  catch (const std::exception& e)
-  {
-    std::remove(tmp.c_str());
-    error = "cannot write " + Quote(file) + ": " + e.what();
-    return false;
-  }
-  catch (...)
-  {
-    std::remove(tmp.c_str());
-    error = "cannot write " + Quote(file) + ": unknown error";
-    return false;
-  }
-  if (std::rename(tmp.c_str(), file.c_str()) != 0)
-  {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    error = "cannot write " + Quote(file) + ": cannot rename " + Quote(tmp) + " to it: " +
-      std::strerror(err);
+    error = "cannot write " + Quote(file) + ": " + error;
     return false;
   }
   return true;

@@ -1,5 +1,6 @@
 #include "vtkPTVEXRPassWriter.h"
 
+#include "ptvAtomicWrite.h"
 #include "ptvEXRChannels.h"
 #include "ptvQuote.h"
 
@@ -19,13 +20,8 @@
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -38,45 +34,6 @@ vtkStandardNewMacro(vtkPTVEXRPassWriter);
 namespace
 {
 using ptv::Quote;
-
-std::string FolderOf(const std::string& file)
-{
-  const std::string::size_type slash = file.rfind('/');
-  if (slash == std::string::npos)
-  {
-    return ".";
-  }
-  return slash == 0 ? "/" : file.substr(0, slash);
-}
-
-// Create an empty, new temporary file beside @a file (mode 0666 less the umask, like the final
-// file would get). Returns its path, or "" with @a error set to the OS reason.
-std::string CreateTemporaryFile(const std::string& file, std::string& error)
-{
-  static std::atomic<unsigned> counter{ 0 };
-  const std::string folder = FolderOf(file);
-  const std::string base = file.substr(file.rfind('/') == std::string::npos ? 0 : file.rfind('/') + 1);
-  const auto ticks = static_cast<unsigned long long>(
-    std::chrono::steady_clock::now().time_since_epoch().count());
-  for (int attempt = 0; attempt < 100; ++attempt)
-  {
-    const std::string tmp = folder + "/." + base + ".tmp-" + std::to_string(::getpid()) + "-" +
-      std::to_string(counter++) + "-" + std::to_string((ticks + attempt) % 1000000);
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0)
-    {
-      ::close(fd);
-      return tmp;
-    }
-    if (errno != EEXIST)
-    {
-      error = "cannot create a temporary file in " + Quote(folder) + ": " + std::strerror(errno);
-      return std::string();
-    }
-  }
-  error = "cannot create a temporary file in " + Quote(folder) + ": too many name clashes";
-  return std::string();
-}
 
 } // namespace
 
@@ -240,50 +197,36 @@ void vtkPTVEXRPassWriter::WriteData()
   }
 
   std::string error;
-  const std::string tmp = CreateTemporaryFile(file, error);
-  if (tmp.empty())
-  {
-    vtkErrorMacro("Cannot write " << Quote(file) << ": " << error << ".");
-    this->SetErrorCode(vtkErrorCode::CannotOpenFileError);
-    return;
-  }
-  try
-  {
-    Imf::Header header(width, height);
-    header.compression() = Imf::ZIP_COMPRESSION;
-    header.insert(ptv::kPassLayoutAttribute,
-      Imf::StringAttribute(ptv::FormatEXRPassLayout(layout)));
-    Imf::FrameBuffer frame;
-    for (size_t p = 0; p < layout.size(); ++p)
+  const ptv::WriteStep failed = ptv::WriteAtomically(file,
+    [&](const std::string& tmp)
     {
-      const size_t comps = layout[p].Channels.size();
-      for (size_t c = 0; c < comps; ++c)
+      Imf::Header header(width, height);
+      header.compression() = Imf::ZIP_COMPRESSION;
+      header.insert(ptv::kPassLayoutAttribute,
+        Imf::StringAttribute(ptv::FormatEXRPassLayout(layout)));
+      Imf::FrameBuffer frame;
+      for (size_t p = 0; p < layout.size(); ++p)
       {
-        header.channels().insert(layout[p].Channels[c], Imf::Channel(Imf::FLOAT));
-        frame.insert(layout[p].Channels[c],
-          Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(buffers[p].data() + c),
-            comps * sizeof(float), comps * sizeof(float) * static_cast<size_t>(width)));
+        const size_t comps = layout[p].Channels.size();
+        for (size_t c = 0; c < comps; ++c)
+        {
+          header.channels().insert(layout[p].Channels[c], Imf::Channel(Imf::FLOAT));
+          frame.insert(layout[p].Channels[c],
+            Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(buffers[p].data() + c),
+              comps * sizeof(float), comps * sizeof(float) * static_cast<size_t>(width)));
+        }
       }
-    }
-    Imf::OutputFile out(tmp.c_str(), header);
-    out.setFrameBuffer(frame);
-    out.writePixels(height);
-  }
-  catch (const std::exception& e)
+      Imf::OutputFile out(tmp.c_str(), header);
+      out.setFrameBuffer(frame);
+      out.writePixels(height);
+    },
+    error);
+  if (failed != ptv::WriteStep::None)
   {
-    std::remove(tmp.c_str());
-    vtkErrorMacro("Cannot write " << Quote(file) << ": OpenEXR failed writing " << Quote(tmp)
-                                  << ": " << e.what());
-    this->SetErrorCode(vtkErrorCode::OutOfDiskSpaceError);
-    return;
-  }
-  if (std::rename(tmp.c_str(), file.c_str()) != 0)
-  {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    vtkErrorMacro("Cannot write " << Quote(file) << ": cannot rename " << Quote(tmp)
-                                  << " to it: " << std::strerror(err) << ".");
-    this->SetErrorCode(vtkErrorCode::CannotOpenFileError);
-    return;
+    vtkErrorMacro("Cannot write " << Quote(file) << ": "
+                                  << (failed == ptv::WriteStep::Write ? "OpenEXR: " : "") << error
+                                  << ".");
+    this->SetErrorCode(failed == ptv::WriteStep::Write ? vtkErrorCode::OutOfDiskSpaceError
+                                                       : vtkErrorCode::CannotOpenFileError);
   }
 }
