@@ -2,7 +2,7 @@
 // (see ptvOpenVDBGrid.h).
 #include "ptvOpenVDBGrid.h"
 #include "ptvAtomicWrite.h"
-#include "ptvOpenVDBLayout.h"
+#include "Validators/ptvOpenVDBLayout.h"
 #include "ptvQuote.h"
 
 #include <openvdb/Exceptions.h>

@@ -1,7 +1,7 @@
 #include "vtkPTVEXRPassReader.h"
 
 #include "ptvEXRChannels.h"
-#include "ptvEXRLayout.h"
+#include "Validators/ptvEXRLayout.h"
 #include "ptvQuote.h"
 
 #include "vtkDataObject.h"
