@@ -224,6 +224,7 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   std::copy(range, range + 2, this->Range);
   this->VolumeArray = scalars;
   this->VolumeTime = t;
+  ++this->VolumeVersion;
   this->TransferTime = 0; // the tables span the scalar range: rebuild them
   this->BrickRanges.clear();
   return true;
@@ -385,7 +386,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   const double transferTime = static_cast<double>(prop->GetMTime());
   signature.AddExact(&transferTime, 1);
-  const double volumeTime = static_cast<double>(this->VolumeTime);
+  const double volumeTime = static_cast<double>(this->VolumeVersion);
   signature.AddExact(&volumeTime, 1);
 
   // Camera, light and environment.

@@ -104,13 +104,14 @@ public:
     FrameSignature& signature, std::string& error);
 
   /// Changes whenever the float copy of the voxels is rebuilt (device copies key on it).
-  unsigned long long GetVolumeVersion() const { return this->VolumeTime; }
+  unsigned long long GetVolumeVersion() const { return this->VolumeVersion; }
 
   /// World-space axis-aligned bounds of the volume (valid after Build()).
   const double* GetWorldBounds() const { return this->WorldBounds; }
 
 private:
   vtkMTimeType VolumeTime = 0;
+  unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
   vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
   std::vector<float> Scalars;
   int Dims[3] = { 0, 0, 0 };

@@ -74,32 +74,30 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   const int* dims = params.Volume.Dims;
   const std::size_t voxels =
     static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * dims[2];
+  // The voxels and any colour data change together (FrameInputs' volume version).
   if (volumeVersion != in.VolumeVersion || params.Volume.Scalars != in.VolumeHost)
   {
-    if (!upload(in.Scalars, params.Volume.Scalars, voxels * sizeof(float), "volume upload"))
+    if (!upload(in.Scalars, params.Volume.Scalars, voxels * sizeof(float), "volume upload") ||
+      (params.Volume.Colors &&
+        !upload(in.Colors, params.Volume.Colors, 3 * voxels * sizeof(float), "colour upload")) ||
+      (params.Volume.ColorScalars &&
+        !upload(in.ColorScalars, params.Volume.ColorScalars, voxels * sizeof(float),
+          "colour channel upload")))
     {
+      in.VolumeVersion = ~0ull;
       return false;
     }
     in.VolumeVersion = volumeVersion;
     in.VolumeHost = params.Volume.Scalars;
   }
   d.Volume.Scalars = static_cast<const float*>(in.Scalars.Ptr);
-  // Colour data is uploaded with every frame that has it (it changes with the volume only, but
-  // is rare enough that keying it separately is not worth a second version counter).
-  if (params.Volume.Colors)
-  {
-    if (!upload(in.Colors, params.Volume.Colors, 3 * voxels * sizeof(float), "colour upload"))
-    {
-      return false;
-    }
-    d.Volume.Colors = static_cast<const float*>(in.Colors.Ptr);
-  }
+  d.Volume.Colors = params.Volume.Colors ? static_cast<const float*>(in.Colors.Ptr) : nullptr;
   if (params.Volume.ColorScalars)
   {
-    if (!upload(in.ColorScalars, params.Volume.ColorScalars, voxels * sizeof(float),
-          "colour channel upload") ||
-      !upload(in.ColorTable, params.ColorTable.RGBA, 4 * sizeof(float) * params.ColorTable.Size,
-        "colour table upload"))
+    // The colour table follows the transfer function: small, uploaded with every frame as the
+    // scalar table is.
+    if (!upload(in.ColorTable, params.ColorTable.RGBA, 4 * sizeof(float) * params.ColorTable.Size,
+          "colour table upload"))
     {
       return false;
     }
