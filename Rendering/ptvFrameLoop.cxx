@@ -7,6 +7,8 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace ptv
@@ -42,6 +44,8 @@ bool FrameLoop::ReportOnce(const std::string& error, const char* fixedPrefix)
 void FrameLoop::ResetAccumulation()
 {
   this->AccumulatedFrames = 0;
+  this->StillConverged = false;
+  this->EstimatedQuality = 0.0;
   this->Signature.Clear();
 }
 
@@ -50,6 +54,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   vtkDataArray* scalars, bool cellScalars, const FrameRequest& request, FrameMessages& messages)
 {
   this->LastRenderTraced = false;
+  this->LastRenderFrames = 0;
   this->LastTraceTime = 0.0;
   this->LastDenoiseTime = 0.0;
   auto fail = [this, &messages](const std::string& error)
@@ -105,19 +110,21 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   this->LastError.clear();
   if (!signature.Matches(this->Signature)) // compared with the frame that started the
   {                                        // accumulation, so slow drifts cannot pile up
-    this->AccumulatedFrames = 0;
+    this->ResetAccumulation();
     this->Signature = std::move(signature);
   }
 
-  // 2.-3. Trace and accumulate, 4. denoise.
-  if (this->AccumulatedFrames < request.MaximumAccumulatedFrames)
+  // 2.-3. Trace and accumulate (a still render: until converged), 4. denoise and combine.
+  if (this->AccumulatedFrames < request.MaximumAccumulatedFrames &&
+    !(request.Still && this->StillConverged))
   {
     this->Trace(request, messages);
   }
-  if (request.Denoise)
+  if (request.Still)
   {
-    this->DenoiseFrame(request, messages);
+    this->Refine(request, messages);
   }
+  this->Combine(request, messages);
 
   // 5.-6. What the window shows.
   this->Shown.Update(ren, this->Accumulated, this->ShownPass(request, messages),
@@ -144,21 +151,24 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   }
   this->BackendProblem = problem;
   ++this->AccumulatedFrames;
+  ++this->LastRenderFrames;
+  this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames);
   this->Accumulated.Accumulate(this->Frame, this->AccumulatedFrames);
-  this->LastTraceTime = 1000.0 * (Now() - start);
+  this->CombinedValid = false;
+  this->LastTraceTime += 1000.0 * (Now() - start);
   this->LastRenderTraced = true;
   this->DenoisedValid = false;
 }
 
 //------------------------------------------------------------------------------
-void FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& messages)
+bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& messages)
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
     std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
     request.Denoiser.UseNetwork ? "net" : "fixed" };
   if (this->DenoisedValid && key == this->DenoiseKey)
   {
-    return; // nothing new to denoise
+    return true; // nothing new to denoise
   }
   DenoiserSettings settings = request.Denoiser;
   settings.Threads = request.Threads;
@@ -176,7 +186,7 @@ void FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   if (!this->Denoising.Run(settings, passes, width, height, acc.Data(PassDenoised), error))
   {
     messages.emplace_back(true, "Denoising failed: " + error);
-    return;
+    return false;
   }
   const std::string warning = this->Denoising.TakeWarning();
   if (!warning.empty())
@@ -202,14 +212,86 @@ void FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
     }
   }
   this->DenoisedValid = true;
+  this->CombinedValid = false;
   this->DenoiseKey = key;
-  this->LastDenoiseTime = 1000.0 * (Now() - start);
+  this->LastDenoiseTime += 1000.0 * (Now() - start);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
+{
+  if (this->AccumulatedFrames == 0)
+  {
+    return;
+  }
+  const bool denoised = request.Denoise && this->DenoiseFrame(request, messages);
+  if (this->CombinedValid && this->CombinedWithDenoiser == denoised)
+  {
+    return;
+  }
+  PassBuffers& acc = this->Accumulated;
+  this->EstimatedQuality = this->Converging.Combine(acc.Data(PassRadiance),
+    denoised ? acc.Data(PassDenoised) : nullptr, this->AccumulatedFrames,
+    denoised ? acc.Data(PassConverged) : nullptr, request.Threads);
+  this->CombinedValid = true;
+  this->CombinedWithDenoiser = denoised;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
+{
+  const int cap = std::min(request.MaximumAccumulatedFrames, request.MaximumStillFrames);
+  const double start = Now();
+  double predicted = std::max(cap, 1); // frames this still will take, as far as is known
+  auto progress = [&request](double fraction)
+  {
+    if (request.Progress)
+    {
+      request.Progress(std::min(1.0, std::max(0.0, fraction)));
+    }
+  };
+  // Estimates cost a denoise each: the first after kMinimumBlendFrames (the estimate needs
+  // them), then where the 1/frames decay of the error predicts the target, at most 1.5x on.
+  int next = std::max(Convergence::kMinimumBlendFrames, this->AccumulatedFrames);
+  while (!this->StillConverged)
+  {
+    const int k = this->AccumulatedFrames;
+    if (k >= next || k >= cap)
+    {
+      this->Combine(request, messages);
+      const double quality = this->EstimatedQuality;
+      if (k >= Convergence::kMinimumBlendFrames && quality >= request.StillQuality)
+      {
+        this->StillConverged = true;
+        break;
+      }
+      if (k >= cap)
+      {
+        break;
+      }
+      const double needed =
+        quality > 0.0 ? k * std::pow(10.0, (request.StillQuality - quality) / 10.0) : 2.0 * k;
+      predicted = std::min<double>(cap, std::max<double>(needed, k + 1));
+      next = std::min(cap,
+        std::max(k + 1, std::min(static_cast<int>(std::ceil(needed)), (3 * k + 1) / 2)));
+    }
+    if (request.StillTimeBudget > 0.0 && Now() - start >= request.StillTimeBudget)
+    {
+      break;
+    }
+    this->Trace(request, messages);
+    progress(this->AccumulatedFrames / predicted);
+  }
+  progress(1.0);
 }
 
 //------------------------------------------------------------------------------
 int FrameLoop::ShownPass(const FrameRequest& request, FrameMessages& messages)
 {
-  const int radiance = request.Denoise && this->DenoisedValid ? PassDenoised : PassRadiance;
+  const int radiance = !(request.Denoise && this->DenoisedValid) ? PassRadiance
+    : this->CombinedValid && this->CombinedWithDenoiser    ? PassConverged
+                                                           : PassDenoised;
   if (request.DisplayPass.empty())
   {
     return radiance;

@@ -11,6 +11,9 @@
  *  3. ptvPassBuffers -- the frame joins the running mean of the named passes (a changed signature
  *     restarts it);
  *  4. ptvDenoiser -- with Denoise on, the accumulated passes are denoised;
+ *     ptvConvergence -- the denoised image fades into the raw mean as the samples make it
+ *     unnecessary, and the error of what is shown is estimated (a still render repeats 2.-4.
+ *     until that estimate reaches the requested quality);
  *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
  *  6. ptvDisplay -- which is drawn into the render window.
  * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
@@ -19,6 +22,7 @@
 #ifndef ptvFrameLoop_h
 #define ptvFrameLoop_h
 
+#include "ptvConvergence.h"
 #include "ptvDenoiser.h"
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
@@ -26,6 +30,7 @@
 #include "ptvShownImage.h"
 #include "ptvTracerRunner.h"
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,7 +52,15 @@ struct FrameRequest
   int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
   bool Denoise = true;
   DenoiserSettings Denoiser;         ///< ModelFile, UseNetwork, Levels (Threads, UseCuda: set here)
-  std::string DisplayPass;           ///< "" shows the (denoised) radiance
+  std::string DisplayPass;           ///< "" shows the (converged) radiance
+  /// A still render: trace frames until the estimated quality of what is shown reaches
+  /// StillQuality (dB), or MaximumStillFrames (also capped by MaximumAccumulatedFrames) are
+  /// accumulated, or StillTimeBudget seconds (> 0) have passed. Otherwise one frame per render.
+  bool Still = false;
+  double StillQuality = 40.0;
+  int MaximumStillFrames = 256;
+  double StillTimeBudget = 0.0;
+  std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
 };
 
 /// What a frame asks the mapper to report, in order: (true = error, false = warning, text).
@@ -75,6 +88,12 @@ public:
   bool ReportOnce(const std::string& error, const char* fixedPrefix = "");
 
   int GetAccumulatedFrames() const { return this->AccumulatedFrames; }
+  /// Frames traced by the last Render (0, 1, or more for a still render).
+  int GetLastRenderFrames() const { return this->LastRenderFrames; }
+  /// Estimated PSNR (dB, tone-mapped) of what is shown; 0 before 2 frames.
+  double GetEstimatedQuality() const { return this->EstimatedQuality; }
+  /// Whether a still render stopped because the estimate reached StillQuality.
+  bool GetStillConverged() const { return this->StillConverged; }
   bool GetLastRenderTraced() const { return this->LastRenderTraced; }
   double GetLastTraceTime() const { return this->LastTraceTime; }
   double GetLastDenoiseTime() const { return this->LastDenoiseTime; }
@@ -88,7 +107,12 @@ public:
 
 private:
   void Trace(const FrameRequest& request, FrameMessages& messages);
-  void DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
+  /// Denoise the accumulation if it changed since the last denoise; false on failure.
+  bool DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
+  /// Denoise (when on) and combine; updates EstimatedQuality.
+  void Combine(const FrameRequest& request, FrameMessages& messages);
+  /// The still render's loop (after the render's first frame).
+  void Refine(const FrameRequest& request, FrameMessages& messages);
   int ShownPass(const FrameRequest& request, FrameMessages& messages);
 
   FrameInputs Inputs;
@@ -98,11 +122,17 @@ private:
   PassBuffers Frame;
   PassBuffers Accumulated;
   Denoiser Denoising;
+  Convergence Converging;
   ShownImage Shown;
   Display Drawing;
   std::vector<float> ZBuffer;
 
   int AccumulatedFrames = 0;
+  int LastRenderFrames = 0;
+  double EstimatedQuality = 0.0;
+  bool StillConverged = false;
+  bool CombinedValid = false; ///< PassConverged and EstimatedQuality match the passes
+  bool CombinedWithDenoiser = false;
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;

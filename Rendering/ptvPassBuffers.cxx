@@ -20,6 +20,7 @@ const PassInfo kPasses[PassCount] = {
   { "Denoised", 3 },
   { "Guides", 3 },
   { "BlendWeights", 2 },
+  { "Converged", 3 },
 };
 
 void Put3(std::vector<float>& b, int pixel, const Vec3& v)

@@ -27,6 +27,7 @@ enum PassId
   PassDenoised,     ///< produced by the denoiser from the traced passes (not accumulated)
   PassGuides,       ///< its guides, one level per component (unused levels 0)
   PassBlendWeights, ///< its blend weights (unused 0)
+  PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
   PassCount
 };
 

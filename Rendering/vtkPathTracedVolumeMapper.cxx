@@ -381,6 +381,11 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
     request.Denoiser.Levels = this->DenoiserNumberOfLevels;
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
+    request.Still = this->ConvergeStillRenders && vol->GetAllocatedRenderTime() >= 1.0;
+    request.StillQuality = this->StillQuality;
+    request.MaximumStillFrames = this->MaximumStillFrames;
+    request.StillTimeBudget = this->StillTimeBudget;
+    request.Progress = [this](double fraction) { this->UpdateProgress(fraction); };
     GatherClipping(this, scene, this->Internals->ClipProblems);
     GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
 
@@ -400,6 +405,9 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   this->AccumulatedFrames = loop.GetAccumulatedFrames();
   this->LastRenderTraced = loop.GetLastRenderTraced();
+  this->LastRenderFrames = loop.GetLastRenderFrames();
+  this->EstimatedQuality = loop.GetEstimatedQuality();
+  this->StillConverged = loop.GetStillConverged();
   this->LastTraceTime = loop.GetLastTraceTime();
   this->LastDenoiseTime = loop.GetLastDenoiseTime();
 }
@@ -436,7 +444,12 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
   os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
      << "\n";
+  os << indent << "ConvergeStillRenders: " << this->ConvergeStillRenders << "\n";
+  os << indent << "StillQuality: " << this->StillQuality << " dB\n";
+  os << indent << "MaximumStillFrames: " << this->MaximumStillFrames << "\n";
+  os << indent << "StillTimeBudget: " << this->StillTimeBudget << " s\n";
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
+  os << indent << "EstimatedQuality: " << this->EstimatedQuality << " dB\n";
   os << indent << "Backend: "
      << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
      << " (last frame: " << this->Internals->Loop.GetActiveBackend() << ")\n";

@@ -62,6 +62,61 @@ public:
 
   ///@{
   /**
+   * Whether a still render converges. A render is a still render when the volume's allocated
+   * render time is at least 1 s (VTK's convention, as in vtkFixedPointVolumeRayCastMapper: the
+   * render window's desired update rate is below 1, e.g. a script's Render() or the
+   * interactor's still render; ParaView's still renders and screenshots). A still render traces
+   * frames until the estimated quality of the shown image reaches StillQuality, or
+   * MaximumStillFrames (and MaximumAccumulatedFrames) frames are accumulated, or StillTimeBudget
+   * seconds have passed; an interactive render (or any render with this off) traces one frame.
+   * A still render that finds the accumulation converged traces nothing. Default on.
+   */
+  vtkSetMacro(ConvergeStillRenders, bool);
+  vtkGetMacro(ConvergeStillRenders, bool);
+  vtkBooleanMacro(ConvergeStillRenders, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Target of a still render: the estimated PSNR in dB of the shown image against the converged
+   * one, after the tone map x^(1/2.2) (docs/measuring.md). Default 40, range [10, 100].
+   */
+  vtkSetClampMacro(StillQuality, double, 10.0, 100.0);
+  vtkGetMacro(StillQuality, double);
+  ///@}
+
+  ///@{
+  /**
+   * Most frames a still render accumulates. Default 256, range [1, 1000000].
+   */
+  vtkSetClampMacro(MaximumStillFrames, int, 1, 1000000);
+  vtkGetMacro(MaximumStillFrames, int);
+  ///@}
+
+  ///@{
+  /**
+   * Seconds after which a still render stops tracing even if StillQuality is not reached
+   * (0 = no limit). Default 0, range [0, 1e6].
+   */
+  vtkSetClampMacro(StillTimeBudget, double, 0.0, 1e6);
+  vtkGetMacro(StillTimeBudget, double);
+  ///@}
+
+  /**
+   * Estimated PSNR in dB (tone-mapped) of the image shown by the last render against the
+   * converged image; 0 before 2 frames. With Denoise on it rates the converged image (the
+   * denoised image faded into the raw mean by their estimated errors: pass "Converged").
+   */
+  vtkGetMacro(EstimatedQuality, double);
+
+  /// Frames traced by the last render (0, 1, or more for a still render).
+  vtkGetMacro(LastRenderFrames, int);
+
+  /// Whether the last still render stopped because its estimate reached StillQuality.
+  vtkGetMacro(StillConverged, bool);
+
+  ///@{
+  /**
    * User seed mixed into every pixel's random stream. Default 0.
    */
   vtkSetMacro(Seed, unsigned int);
@@ -264,7 +319,7 @@ public:
   /// Whether the last render traced a new frame (false once MaximumAccumulatedFrames is reached).
   vtkGetMacro(LastRenderTraced, bool);
 
-  /// Milliseconds spent tracing in the last render (0 if it did not trace).
+  /// Milliseconds spent tracing in the last render, all its frames (0 if it did not trace).
   vtkGetMacro(LastTraceTime, double);
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
@@ -285,6 +340,10 @@ protected:
 
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;
+  bool ConvergeStillRenders = true;
+  double StillQuality = 40.0;
+  int MaximumStillFrames = 256;
+  double StillTimeBudget = 0.0;
   unsigned int Seed = 0;
   bool Scattering = true;
   bool AmbientOcclusion = true;
@@ -303,6 +362,9 @@ protected:
   char* DisplayPass = nullptr;
 
   int AccumulatedFrames = 0;
+  int LastRenderFrames = 0;
+  double EstimatedQuality = 0.0;
+  bool StillConverged = false;
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;

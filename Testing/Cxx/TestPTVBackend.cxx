@@ -44,6 +44,7 @@ std::vector<float> RenderRadiance(int backend, vtkTest::ErrorObserver* errors, s
   property->SetScalarOpacity(opacity);
   property->ShadeOn();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->ConvergeStillRendersOff(); // frame by frame
   mapper->SetInputConnection(source->GetOutputPort());
   mapper->DenoiseOff();
   mapper->SetBackend(backend);

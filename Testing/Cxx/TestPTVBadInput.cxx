@@ -87,6 +87,7 @@ struct Scene
     this->Property->SetScalarOpacity(this->Opacity);
     this->Mapper->SetInputDataObject(input);
     this->Mapper->DenoiseOff();
+    this->Mapper->ConvergeStillRendersOff(); // one frame per render
     this->Mapper->AddObserver(vtkCommand::ErrorEvent, this->Observer);
     this->Mapper->AddObserver(vtkCommand::WarningEvent, this->Observer);
     this->Volume->SetMapper(this->Mapper);

@@ -53,6 +53,7 @@ Images RenderScene(int which, int frames, std::atomic<int>* ready)
   property->ShadeOn();
   property->SetInterpolationTypeToLinear();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->ConvergeStillRendersOff(); // frame by frame
   mapper->SetInputConnection(source->GetOutputPort());
   mapper->SetSeed(11 + which);
   mapper->SetNumberOfThreads(1 + which);

@@ -62,6 +62,7 @@ Frames Render(int backend, int frames)
   property->ShadeOn();
   property->SetInterpolationTypeToLinear();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->ConvergeStillRendersOff(); // frame by frame
   mapper->SetInputConnection(source->GetOutputPort());
   mapper->DenoiseOff();
   mapper->SetBackend(backend);

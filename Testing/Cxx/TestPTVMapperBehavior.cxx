@@ -71,6 +71,7 @@ struct Scene
     this->Property->ShadeOn();
     this->Mapper->SetInputConnection(this->Source->GetOutputPort());
     this->Mapper->DenoiseOff(); // the tracer's behaviour; TestDenoise turns it on
+    this->Mapper->ConvergeStillRendersOff(); // one frame per render; TestStill turns it on
     this->Volume->SetMapper(this->Mapper);
     this->Volume->SetProperty(this->Property);
     this->Renderer->AddVolume(this->Volume);
@@ -181,7 +182,7 @@ void TestPasses()
   vtkNew<vtkImageData> image;
   Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
   s.Window->Render();
-  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 12, "9 traced + 3 denoiser passes");
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 13, "9 traced + 4 denoiser passes");
   for (int i = 0; i < 9; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);

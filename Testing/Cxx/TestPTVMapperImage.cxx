@@ -107,6 +107,7 @@ int TestPTVMapperImage(int argc, char* argv[])
   property->SetInterpolationTypeToLinear();
   property->ShadeOn();
   vtkNew<vtkPathTracedVolumeMapper> mapper;
+  mapper->ConvergeStillRendersOff(); // the baselines' sample counts, one frame per render
   vtkNew<vtkImageData> rgba; // the rgba case's input
   mapper->SetSeed(7);
   mapper->SetDenoise(name == "head_1spp_fixedguide"); // tracer images are compared undenoised

@@ -1,0 +1,247 @@
+#include "ptvConvergence.h"
+
+#include "ptvThreads.h"
+
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+namespace ptv
+{
+namespace
+{
+constexpr float kInvGamma = 1.0f / 2.2f;
+constexpr float kDarkest = 1e-3f; ///< g' is taken at no less than this (g'(0) is infinite)
+
+/// g(x) = x^(1/2.2) (0 for x <= 0) from a table over the float's exponent and top 7 mantissa
+/// bits, linearly interpolated (relative error < 1e-4; std::pow made Combine cost as much as a
+/// trace). Only error estimates use it, never a shown value.
+class ToneTable
+{
+public:
+  ToneTable()
+  {
+    for (std::uint32_t i = 0; i < kEntries; ++i)
+    {
+      this->Values[i] = std::pow(FromBits(i << 16), kInvGamma);
+    }
+  }
+  float operator()(float x) const
+  {
+    if (!(x > 0.0f))
+    {
+      return 0.0f; // also NaN
+    }
+    if (x >= kLargest)
+    {
+      return std::pow(x, kInvGamma);
+    }
+    std::uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    const std::uint32_t i = bits >> 16;
+    const float t = static_cast<float>(bits & 0xFFFFu) * (1.0f / 65536.0f);
+    return this->Values[i] + t * (this->Values[i + 1] - this->Values[i]);
+  }
+
+private:
+  static float FromBits(std::uint32_t bits)
+  {
+    float x;
+    std::memcpy(&x, &bits, sizeof x);
+    return x;
+  }
+  static constexpr std::uint32_t kEntries = 0x7F80u + 1; ///< up to +infinity's upper bits
+  static constexpr float kLargest = 1e30f;
+  float Values[kEntries];
+};
+
+const ToneTable& Tone()
+{
+  static const ToneTable table;
+  return table;
+}
+
+/// g'(x), taken at no less than kDarkest.
+inline float ToneSlope(const ToneTable& g, float x)
+{
+  x = std::max(x, kDarkest);
+  return kInvGamma * g(x) / x;
+}
+
+/// Width of the box that smooths the variance after @a count frames: each frame adds a degree
+/// of freedom per pixel, so fewer neighbours are needed (a fixed box blurs thin structures'
+/// variance into their background: measured on the stent).
+int VarianceBox(int count)
+{
+  return count < 16 ? 7 : count < 32 ? 5 : count < 128 ? 3 : 1;
+}
+
+/// @a map (width x height) box-filtered in place over size x size pixels, edges clamped.
+void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int height, int size,
+  int threads)
+{
+  if (size <= 1)
+  {
+    return;
+  }
+  const int r = size / 2;
+  const float norm = 1.0f / static_cast<float>(size);
+  scratch.resize(map.size());
+  auto pass = [&](const float* in, float* out, int lines, int length, std::ptrdiff_t along,
+                std::ptrdiff_t across)
+  {
+    vtkSMPTools::For(0, lines,
+      [&](int begin, int end)
+      {
+        for (int line = begin; line < end; ++line)
+        {
+          const float* src = in + line * across;
+          float* dst = out + line * across;
+          auto at = [&](int i) { return src[std::min(std::max(i, 0), length - 1) * along]; };
+          double sum = 0.0;
+          for (int i = -r; i <= r; ++i)
+          {
+            sum += at(i);
+          }
+          for (int i = 0; i < length; ++i)
+          {
+            dst[i * along] = std::max(static_cast<float>(sum) * norm, 0.0f); // no -0 rounding
+            sum += at(i + r + 1) - at(i - r);
+          }
+        }
+      });
+  };
+  WithThreads(threads,
+    [&]()
+    {
+      pass(map.data(), scratch.data(), height, width, 1, width);   // rows
+      pass(scratch.data(), map.data(), width, height, width, 1);   // columns
+    });
+}
+}
+
+//------------------------------------------------------------------------------
+void Convergence::AddFrame(const float* frame, int width, int height, int count)
+{
+  const std::size_t n = 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (count <= 1 || width != this->Width || height != this->Height)
+  {
+    this->Width = width;
+    this->Height = height;
+    this->SecondMoment.resize(n);
+    this->OddMean.assign(frame, frame + n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      this->SecondMoment[i] = frame[i] * frame[i];
+    }
+    this->Count = 1;
+    return;
+  }
+  const float w = 1.0f / static_cast<float>(count);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->SecondMoment[i] += (frame[i] * frame[i] - this->SecondMoment[i]) * w;
+  }
+  if (count % 2 == 1)
+  {
+    const float wOdd = 1.0f / static_cast<float>((count + 1) / 2);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      this->OddMean[i] += (frame[i] - this->OddMean[i]) * wOdd;
+    }
+  }
+  this->Count = count;
+}
+
+//------------------------------------------------------------------------------
+double Convergence::Combine(
+  const float* mean, const float* denoised, int count, float* shown, int threads)
+{
+  const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
+  if (count != this->Count || n == 0)
+  {
+    return 0.0; // statistics of another accumulation: nothing to say
+  }
+  this->DenoiserError.assign(n, 0.0f);
+  this->Variance.assign(n, 0.0f);
+  this->HalfVariance.assign(n, 0.0f);
+  this->RawWeight.assign(n, 0.0f);
+  const int k = count;
+  const int odd = (k + 1) / 2;
+  const int even = k - odd;
+  const float halfScale =
+    even > 0 ? static_cast<float>(odd) * static_cast<float>(even) / (float(k) * float(k)) : 0.0f;
+  const ToneTable& g = Tone();
+  WithThreads(threads,
+    [&]()
+    {
+      vtkSMPTools::For(std::size_t(0), n,
+        [&](std::size_t begin, std::size_t end)
+        {
+          for (std::size_t p = begin; p < end; ++p)
+          {
+            float e = 0.0f, v = 0.0f, h = 0.0f;
+            for (int c = 0; c < 3; ++c)
+            {
+              const std::size_t i = 3 * p + c;
+              const float m = mean[i];
+              if (denoised)
+              {
+                const float diff = g(denoised[i]) - g(m);
+                e += diff * diff;
+              }
+              if (even > 0)
+              {
+                const float slope = ToneSlope(g, m);
+                v += std::max(this->SecondMoment[i] - m * m, 0.0f) / float(k - 1) * slope * slope;
+                const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
+                const float half = g(this->OddMean[i]) - g(other);
+                h += half * half * halfScale;
+              }
+            }
+            this->DenoiserError[p] = e / 3.0f;
+            this->Variance[p] = v / 3.0f;
+            this->HalfVariance[p] = h / 3.0f;
+          }
+        });
+    });
+  if (even == 0)
+  {
+    if (denoised)
+    {
+      std::copy(denoised, denoised + 3 * n, shown);
+    }
+    return 0.0; // one frame: no variance yet
+  }
+  const int box = VarianceBox(k);
+  Box(this->DenoiserError, this->Scratch, this->Width, this->Height, 3, threads);
+  Box(this->Variance, this->Scratch, this->Width, this->Height, box, threads);
+  Box(this->HalfVariance, this->Scratch, this->Width, this->Height, std::max(box, 3), threads);
+
+  double sum = 0.0;
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    float w = 1.0f; // Denoise off: the raw mean is shown
+    if (denoised)
+    {
+      const float v = this->Variance[p];
+      const float e = std::max(this->DenoiserError[p] - v, 0.0f);
+      w = (k >= kMinimumBlendFrames && e + v > 0.0f) ? std::min(e / (e + v), 1.0f) : 0.0f;
+      for (int c = 0; c < 3; ++c)
+      {
+        const std::size_t i = 3 * p + c;
+        shown[i] = w * mean[i] + (1.0f - w) * denoised[i];
+      }
+    }
+    this->RawWeight[p] = w;
+    sum += double(w) * w * this->HalfVariance[p] +
+      (denoised ? double(1.0f - w) * (1.0f - w) * this->DenoiserError[p] : 0.0);
+  }
+  const double mse = sum / static_cast<double>(n);
+  return mse > 0.0 ? -10.0 * std::log10(mse) : 100.0; // identical halves: an empty view
+}
+}

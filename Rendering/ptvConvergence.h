@@ -1,0 +1,61 @@
+/**
+ * @file ptvConvergence.h
+ * @brief Private: how far the accumulation is from converged, and the image that converges --
+ *        the denoised image faded into the raw running mean by their estimated errors.
+ *
+ * Kept per pixel while frames accumulate: the mean of the squared frame radiance (the variance
+ * of the running mean) and the mean of the odd-numbered frames (with the even ones: two
+ * independent half-accumulations). Errors are measured where the project measures quality,
+ * after the tone map g(x) = x^(1/2.2) (docs/measuring.md):
+ *  - raw mean M, variance V = g'(M)^2 (E[f^2] - M^2) / (k - 1) (delta method), box-filtered
+ *    with a radius that shrinks as frames add degrees of freedom;
+ *  - denoised D, error E = box3((g(D) - g(M))^2) - V (its squared distance from M, less the
+ *    part that is M's own noise);
+ *  - shown C = w M + (1 - w) D with w = E / (E + V) (the per-pixel blend of two estimates with
+ *    the least squared error), from 8 frames on (fewer give too noisy a variance: measured in
+ *    Testing/Benchmarks/convergence.py); below that, D.
+ * The estimated error of C (for the stopping rule of still renders) uses the half
+ * accumulations instead of the delta method, which misses the rare samples of dark pixels:
+ * V_half = (g(A) - g(B))^2 n_A n_B / k^2, and MSE = mean(w^2 V_half + (1 - w)^2 box3(...)).
+ */
+#ifndef ptvConvergence_h
+#define ptvConvergence_h
+
+#include <vector>
+
+namespace ptv
+{
+class Convergence
+{
+public:
+  /// Frames before the raw mean is blended in (the variance needs this many samples).
+  static constexpr int kMinimumBlendFrames = 8;
+
+  /**
+   * Add frame @a count (1 = first: restarts) of radiance @a frame (3 floats per pixel) for a
+   * @a width x @a height image.
+   */
+  void AddFrame(const float* frame, int width, int height, int count);
+
+  /**
+   * The image to show from the running mean @a mean of @a count frames and its denoised
+   * @a denoised (nullptr: Denoise off, the mean is shown) into @a shown (3 floats per pixel;
+   * may be nullptr when @a denoised is). Returns the estimated PSNR in dB of what is shown
+   * (tone-mapped, like docs/measuring.md), or 0 when not known yet (fewer than 2 frames).
+   */
+  double Combine(const float* mean, const float* denoised, int count, float* shown, int threads);
+
+  /// The raw weight w of the last Combine (1 float per pixel).
+  const std::vector<float>& GetRawWeight() const { return this->RawWeight; }
+
+private:
+  int Width = 0;
+  int Height = 0;
+  int Count = 0;
+  std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
+  std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
+  std::vector<float> DenoiserError, Variance, HalfVariance, RawWeight, Scratch;
+};
+}
+
+#endif

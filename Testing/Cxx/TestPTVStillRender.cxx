@@ -1,0 +1,242 @@
+// Still renders and images that converge (vtkPathTracedVolumeMapper, ptvConvergence):
+//  - the shown image (pass Converged: the denoised image faded into the raw mean) is at every
+//    sample count within 0.3 dB of the better of raw and denoised, and within 0.3 dB of raw
+//    from 256 samples on (PSNR after the tone map x^(1/2.2), against a 2048-spp reference of
+//    another seed);
+//  - a still render (the window's default desired update rate) traces until the estimated
+//    quality reaches StillQuality; the estimate is not optimistic by more than 1 dB; a second
+//    still render traces nothing; an interactive render traces one frame;
+//  - MaximumStillFrames and StillTimeBudget stop a still render that cannot reach its target;
+//    progress events run to 1; with Denoise off the raw mean converges the same way.
+#include "ptvTestCheck.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPathTracedVolumeMapper.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRTAnalyticSource.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+constexpr int kSize = 64;
+
+struct Scene
+{
+  vtkNew<vtkRTAnalyticSource> Source;
+  vtkNew<vtkColorTransferFunction> Color;
+  vtkNew<vtkPiecewiseFunction> Opacity;
+  vtkNew<vtkVolumeProperty> Property;
+  vtkNew<vtkPathTracedVolumeMapper> Mapper;
+  vtkNew<vtkVolume> Volume;
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+
+  Scene()
+  {
+    this->Source->SetWholeExtent(-16, 16, -16, 16, -16, 16);
+    this->Color->AddRGBPoint(37, 0.2, 0.4, 1.0);
+    this->Color->AddRGBPoint(277, 1.0, 0.9, 0.5);
+    this->Opacity->AddPoint(37, 0.0);
+    this->Opacity->AddPoint(150, 0.0);
+    this->Opacity->AddPoint(277, 0.8);
+    this->Property->SetColor(this->Color);
+    this->Property->SetScalarOpacity(this->Opacity);
+    this->Property->ShadeOn();
+    this->Mapper->SetInputConnection(this->Source->GetOutputPort());
+    this->Volume->SetMapper(this->Mapper);
+    this->Volume->SetProperty(this->Property);
+    this->Renderer->AddVolume(this->Volume);
+    this->Renderer->SetBackground(0.4, 0.4, 0.4);
+    this->Renderer->GetActiveCamera()->Azimuth(20);
+    this->Renderer->ResetCamera();
+    this->Window->SetSize(kSize, kSize);
+    this->Window->AddRenderer(this->Renderer);
+  }
+
+  std::vector<float> Pass(const char* name)
+  {
+    vtkNew<vtkImageData> image;
+    if (!this->Mapper->GetPass(name, image))
+    {
+      return {};
+    }
+    vtkFloatArray* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
+    return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+  }
+};
+
+float Tone(float x)
+{
+  return std::min(1.0f, x > 0.0f ? std::pow(x, 1.0f / 2.2f) : 0.0f);
+}
+
+/// Mean squared difference after the tone map (docs/measuring.md).
+double ToneMse(const std::vector<float>& a, const std::vector<float>& b)
+{
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    const double d = Tone(a[i]) - Tone(b[i]);
+    sum += d * d;
+  }
+  return sum / static_cast<double>(std::max<std::size_t>(a.size(), 1));
+}
+
+double Psnr(double mse)
+{
+  return -10.0 * std::log10(std::max(mse, 1e-20));
+}
+
+/// 2048 spp of seed 1000 (Denoise off), and the tone-mapped MSE of the reference itself (from
+/// its two halves: each half's MSE against the truth is twice the whole's).
+std::vector<float> Reference(double& ownMse)
+{
+  Scene s;
+  s.Mapper->DenoiseOff();
+  s.Mapper->ConvergeStillRendersOff();
+  s.Mapper->SetSeed(1000);
+  s.Mapper->SetSamplesPerFrame(64);
+  std::vector<float> half;
+  for (int frame = 1; frame <= 32; ++frame)
+  {
+    s.Window->Render();
+    if (frame == 16)
+    {
+      half = s.Pass("Radiance");
+    }
+  }
+  std::vector<float> whole = s.Pass("Radiance");
+  std::vector<float> other(whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i)
+  {
+    other[i] = 2.0f * whole[i] - half[i];
+  }
+  ownMse = ToneMse(half, other) / 4.0; // E|A-B|^2 = 2 (2 mse_whole)
+  return whole;
+}
+
+void TestConvergedImage(const std::vector<float>& ref)
+{
+  Scene s;
+  s.Mapper->ConvergeStillRendersOff(); // one frame per render: every sample count is seen
+  s.Mapper->SetSeed(1);
+  int k = 0;
+  for (int target = 1; target <= 512; target *= 2)
+  {
+    while (k < target)
+    {
+      s.Window->Render();
+      ++k;
+    }
+    const double raw = Psnr(ToneMse(s.Pass("Radiance"), ref));
+    const double den = Psnr(ToneMse(s.Pass("Denoised"), ref));
+    const double shown = Psnr(ToneMse(s.Pass("Converged"), ref));
+    std::ostringstream what;
+    what << k << " spp: converged " << shown << " dB, raw " << raw << ", denoised " << den;
+    std::cout << what.str() << "\n";
+    Check(shown >= std::max(raw, den) - 0.3, what.str() + ": below the better by > 0.3 dB");
+    if (k >= 256)
+    {
+      Check(shown >= raw - 0.3, what.str() + ": below raw by > 0.3 dB from 256 spp on");
+    }
+  }
+}
+
+void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
+{
+  const std::string label = denoise ? "denoised: " : "raw: ";
+  Scene s;
+  s.Mapper->SetDenoise(denoise);
+  s.Mapper->SetSeed(1);
+  int progressEvents = 0;
+  double lastProgress = -1.0;
+  vtkNew<vtkCallbackCommand> progress;
+  struct Seen
+  {
+    int* Events;
+    double* Last;
+  } seen{ &progressEvents, &lastProgress };
+  progress->SetClientData(&seen);
+  progress->SetCallback(
+    [](vtkObject*, unsigned long, void* client, void* data)
+    {
+      auto* w = static_cast<Seen*>(client);
+      ++*w->Events;
+      *w->Last = *static_cast<double*>(data);
+    });
+  s.Mapper->AddObserver(vtkCommand::ProgressEvent, progress);
+
+  s.Window->Render(); // desired update rate 0.0001 (VTK's default): a still render
+  const int frames = s.Mapper->GetLastRenderFrames();
+  const double estimate = s.Mapper->GetEstimatedQuality();
+  const std::vector<float> shown = s.Pass(denoise ? "Converged" : "Radiance");
+  // The measured error against the truth: against the reference, less the reference's own.
+  const double measured = Psnr(std::max(ToneMse(shown, ref) - refMse, 1e-20));
+  std::ostringstream what;
+  what << label << "still render: " << frames << " frames, estimated " << estimate
+       << " dB, measured " << measured << " dB (reference's own error " << Psnr(refMse)
+       << " dB)";
+  std::cout << what.str() << "\n";
+  Check(frames >= 8 && frames == s.Mapper->GetAccumulatedFrames(), what.str() + ": frames");
+  Check(s.Mapper->GetStillConverged() && estimate >= s.Mapper->GetStillQuality(),
+    what.str() + ": converged to StillQuality");
+  Check(measured >= estimate - 1.0, what.str() + ": estimate optimistic by more than 1 dB");
+  Check(progressEvents > 0 && lastProgress == 1.0, label + "progress events end at 1");
+
+  s.Window->Render();
+  Check(s.Mapper->GetLastRenderFrames() == 0 && s.Mapper->GetAccumulatedFrames() == frames,
+    label + "a converged still render traces nothing");
+
+  s.Window->SetDesiredUpdateRate(15.0); // the interactor's rate while the user drags
+  s.Renderer->GetActiveCamera()->Azimuth(5);
+  s.Window->Render();
+  Check(s.Mapper->GetLastRenderFrames() == 1 && s.Mapper->GetAccumulatedFrames() == 1,
+    label + "an interactive render traces one frame");
+  s.Window->SetDesiredUpdateRate(0.0001);
+
+  s.Mapper->SetStillQuality(100.0); // out of reach
+  s.Mapper->SetMaximumStillFrames(5);
+  s.Mapper->ResetAccumulation();
+  s.Window->Render();
+  Check(s.Mapper->GetLastRenderFrames() == 5 && !s.Mapper->GetStillConverged(),
+    label + "MaximumStillFrames stops a still render");
+
+  s.Mapper->SetMaximumStillFrames(1000000);
+  s.Mapper->SetStillTimeBudget(0.3);
+  s.Mapper->ResetAccumulation();
+  const double start = vtkTimerLog::GetUniversalTime();
+  s.Window->Render();
+  const double seconds = vtkTimerLog::GetUniversalTime() - start;
+  Check(s.Mapper->GetLastRenderFrames() >= 1 &&
+      s.Mapper->GetLastRenderFrames() < s.Mapper->GetMaximumAccumulatedFrames() &&
+      !s.Mapper->GetStillConverged() && seconds < 30.0,
+    label + "StillTimeBudget stops a still render (" + std::to_string(seconds) + " s)");
+}
+}
+
+int TestPTVStillRender(int, char*[])
+{
+  double refMse = 0.0;
+  const std::vector<float> ref = Reference(refMse);
+  TestConvergedImage(ref);
+  TestStillRender(ref, refMse, true);
+  TestStillRender(ref, refMse, false);
+  return TestResult();
+}
