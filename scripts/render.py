@@ -77,6 +77,7 @@ def render(args: argparse.Namespace) -> float:
     else:
         from pathtracedvolume import vtkPathTracedVolumeMapper
         mapper = vtkPathTracedVolumeMapper()
+        mapper.ConvergeStillRendersOff()  # --spp frames, one per Render
         mapper.SetSeed(args.seed)
         mapper.SetMaximumAccumulatedFrames(max(1, args.spp))
         mapper.SetDenoise(not args.no_denoise)

@@ -108,6 +108,7 @@ class BenchScene:
 
         self.size = (int(size[0]), int(size[1]))
         self.mapper = vtkPathTracedVolumeMapper()
+        self.mapper.ConvergeStillRendersOff()  # render() drives the accumulation frame by frame
         if hasattr(volume, "GetOutputPort"):
             self.mapper.SetInputConnection(volume.GetOutputPort())
         else:

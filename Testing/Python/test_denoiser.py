@@ -51,6 +51,7 @@ def render_passes(frames: int = 1) -> dict[str, np.ndarray]:
     prop.ShadeOn()
     prop.SetInterpolationTypeToLinear()
     mapper = rendering.vtkPathTracedVolumeMapper()
+    mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.DenoiseOff()
     mapper.SetMaximumAccumulatedFrames(frames)

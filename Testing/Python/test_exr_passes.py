@@ -44,6 +44,7 @@ CONVENTIONAL = {
     "Denoised": ["denoised.R", "denoised.G", "denoised.B"],
     "Guides": ["Guides.R", "Guides.G", "Guides.B"],
     "BlendWeights": ["BlendWeights.0", "BlendWeights.1"],
+    "Converged": ["Converged.R", "Converged.G", "Converged.B"],
 }
 
 
@@ -75,6 +76,7 @@ def render_passes(denoise: bool) -> vtkImageData:
     prop.SetColor(color)
     prop.SetScalarOpacity(opacity)
     mapper = ptv_rendering.vtkPathTracedVolumeMapper()
+    mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetDenoise(denoise)
     mapper.SetDenoiserUseNetwork(False)
@@ -101,7 +103,7 @@ def render_passes(denoise: bool) -> vtkImageData:
         name = mapper.GetPassName(i)
         array = passes.GetPointData().GetArray(name)
         if array is None:
-            assert not denoise and name in ("Denoised", "Guides", "BlendWeights")
+            assert not denoise and name in ("Denoised", "Guides", "BlendWeights", "Converged")
             continue
         single = vtkImageData()
         assert mapper.GetPass(name, single)

@@ -50,6 +50,7 @@ class Scene:
         self.prop.SetColor(color)
         self.prop.SetScalarOpacity(opacity)
         self.ours = ptv.vtkPathTracedVolumeMapper()
+        self.ours.ConvergeStillRendersOff()  # frame by frame
         self.ours.DenoiseOff()
         self.stock = vtkFixedPointVolumeRayCastMapper()
         self.stock.SetAutoAdjustSampleDistances(0)

@@ -32,6 +32,7 @@ def make_scene(seed: int):
     prop.SetScalarOpacity(opacity)
     prop.ShadeOn()
     mapper = ptv.vtkPathTracedVolumeMapper()
+    mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetSeed(seed)
     mapper.DenoiseOff()
@@ -61,8 +62,8 @@ def test_passes_are_numpy_arrays() -> None:
     window.Render()
     names = [mapper.GetPassName(i) for i in range(mapper.GetNumberOfPasses())]
     assert names[:3] == ["Radiance", "Alpha", "Albedo"]
-    assert names[-3:] == ["Denoised", "Guides", "BlendWeights"]
-    for name in names[:-3]:
+    assert names[-4:] == ["Denoised", "Guides", "BlendWeights", "Converged"]
+    for name in names[:-4]:
         values = get_pass(mapper, name)
         assert values.dtype == np.float32
         assert values.shape in ((W * H,), (W * H, 3)), name
@@ -72,6 +73,7 @@ def test_passes_are_numpy_arrays() -> None:
 
 def test_settings_round_trip() -> None:
     mapper = ptv.vtkPathTracedVolumeMapper()
+    mapper.ConvergeStillRendersOff()  # frame by frame
     assert mapper.GetSamplesPerFrame() == 1 and mapper.GetMaximumAccumulatedFrames() == 1024
     mapper.SetSamplesPerFrame(0)  # clamped to the documented range
     assert mapper.GetSamplesPerFrame() == 1

@@ -143,6 +143,7 @@ class Scene:
         prop.ShadeOn()
 
         mapper = vtkPathTracedVolumeMapper()
+        mapper.ConvergeStillRendersOff()  # the data's sample counts are set frame by frame
         mapper.SetInputConnection(self.reader.GetOutputPort())
         mapper.SetSeed(int(seed))
         mapper.SetMaximumAccumulatedFrames(int(max_frames))
