@@ -93,7 +93,7 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
   this->Color.resize(4 * pixels);
   this->Depth.assign(pixels, 1.0f);
   const float far = camera.FarDistance;
-  if (pass == PassRadiance || pass == PassDenoised)
+  if (pass == PassRadiance || pass == PassDenoised || pass == PassConverged)
   {
     const float* rgb = passes.Data(pass);
     const float* alpha = passes.Data(PassAlpha);

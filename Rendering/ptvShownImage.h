@@ -3,7 +3,8 @@
  * @brief Private: what the window shows for a frame -- premultiplied RGBA and window depth made
  *        from the passes, ready for ptvDisplay to draw.
  *
- * Colour: the (denoised) radiance with the Alpha pass, premultiplied; any other pass is
+ * Colour: the radiance (raw, denoised or converged) with the Alpha pass, premultiplied; any
+ * other pass is
  * colourised for inspection (opaque, in [0, 1], misses black: depths near = bright, normals
  * 0.5 n + 0.5, positions scaled to the volume's bounds). Depth: the window depth of the first
  * event along each pixel's centre ray (1 = no event: the depth buffer is left alone), so later

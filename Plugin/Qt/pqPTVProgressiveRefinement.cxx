@@ -67,6 +67,12 @@ void pqPTVProgressiveRefinement::startup()
     model, &pqServerManagerModel::viewAdded, this, &pqPTVProgressiveRefinement::onViewAdded);
   QObject::connect(
     model, &pqServerManagerModel::viewRemoved, this, &pqPTVProgressiveRefinement::onViewRemoved);
+  QObject::connect(model, &pqServerManagerModel::representationAdded, this,
+    &pqPTVProgressiveRefinement::onRepresentationAdded);
+  for (pqRepresentation* repr : model->findItems<pqRepresentation*>())
+  {
+    this->onRepresentationAdded(repr);
+  }
   // Views that exist already (the plugin loaded after they were created).
   for (pqView* view : model->findItems<pqView*>())
   {
@@ -101,6 +107,20 @@ void pqPTVProgressiveRefinement::onViewAdded(pqView* view)
   this->OwnRenders.insert(view, 0);
   QObject::connect(view, &pqView::beginRender, this, &pqPTVProgressiveRefinement::onBeginRender);
   QObject::connect(view, &pqView::endRender, this, &pqPTVProgressiveRefinement::onEndRender);
+}
+
+//------------------------------------------------------------------------------
+void pqPTVProgressiveRefinement::onRepresentationAdded(pqRepresentation* repr)
+{
+  // In the GUI, still renders other than captures trace one frame each (the idle refinement
+  // goes on from there), so the window never freezes for a converging still render.
+  vtkSMProxy* proxy = repr ? repr->getProxy() : nullptr;
+  if (proxy && proxy->GetProperty("InteractiveSession") &&
+    vtkSMPropertyHelper(proxy, "InteractiveSession").GetAsInt() == 0)
+  {
+    vtkSMPropertyHelper(proxy, "InteractiveSession").Set(1);
+    proxy->UpdateVTKObjects();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -57,6 +57,7 @@ public:
 
 private Q_SLOTS:
   void onViewAdded(pqView* view);
+  void onRepresentationAdded(pqRepresentation* repr);
   void onViewRemoved(pqView* view);
   void onBeginRender();
   void onEndRender();

@@ -11,12 +11,23 @@
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
 #include "vtkPathTracedVolumeMapper.h"
+#include "vtkPVProgressHandler.h"
 #include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
 
 #include <cstring>
 
 vtkStandardNewMacro(vtkPTVVolumeRepresentation);
+
+namespace
+{
+/// vtkPVView::GetInCaptureScreenshot() is protected; a member pointer taken through a subclass
+/// reads it on any view (well-defined C++, no cast of the object).
+struct CaptureFlag : vtkPVView
+{
+  static bool Get(vtkPVView* view) { return (view->*(&CaptureFlag::GetInCaptureScreenshot))(); }
+};
+}
 
 //------------------------------------------------------------------------------
 vtkPTVVolumeRepresentation::vtkPTVVolumeRepresentation()
@@ -58,9 +69,25 @@ int vtkPTVVolumeRepresentation::ProcessViewRequest(
   }
   else if (request_type == vtkPVView::REQUEST_RENDER() && !this->UnsupportedInput)
   {
-    if (auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW())))
+    vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
+    auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+    if (view)
     {
-      this->GetPathTracedMapper()->SetEnvironmentColor(view->GetBackground());
+      mapper->SetEnvironmentColor(view->GetBackground());
+    }
+    // Captures and script renders converge; the GUI's other still renders trace one frame.
+    const bool capturing = view && CaptureFlag::Get(view);
+    mapper->SetConvergeStillRenders(
+      this->ConvergeStillRenders && (!this->InteractiveSession || capturing));
+    if (!this->ProgressRegistered)
+    {
+      vtkPVSession* session = vtkPVSession::SafeDownCast(
+        vtkProcessModule::GetProcessModule()->GetActiveSession());
+      if (session && session->GetProgressHandler())
+      {
+        session->GetProgressHandler()->RegisterProgressEvent(mapper, 0);
+        this->ProgressRegistered = true;
+      }
     }
   }
   else if (request_type == vtkPVView::REQUEST_RENDER() && this->UnsupportedInput)
@@ -215,6 +242,40 @@ void vtkPTVVolumeRepresentation::SetProgressiveRefinement(bool value)
 {
   // Not Modified(): that would re-execute the representation's pipeline for nothing.
   this->ProgressiveRefinement = value;
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetConvergeStillRenders(bool value)
+{
+  if (this->ConvergeStillRenders != value)
+  {
+    this->ConvergeStillRenders = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetStillQuality(double value)
+{
+  this->GetPathTracedMapper()->SetStillQuality(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetMaximumStillFrames(int value)
+{
+  this->GetPathTracedMapper()->SetMaximumStillFrames(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetStillTimeBudget(double value)
+{
+  this->GetPathTracedMapper()->SetStillTimeBudget(value);
+}
+
+//------------------------------------------------------------------------------
+double vtkPTVVolumeRepresentation::GetEstimatedQuality()
+{
+  return this->GetPathTracedMapper()->GetEstimatedQuality();
 }
 
 //------------------------------------------------------------------------------

@@ -100,6 +100,27 @@ public:
 
   ///@{
   /**
+   * Still renders (vtkPathTracedVolumeMapper::ConvergeStillRenders and its StillQuality,
+   * MaximumStillFrames, StillTimeBudget): screenshots, animation frames and script renders
+   * converge. With InteractiveSession on (set by the GUI's pqPTVProgressiveRefinement) a still
+   * render converges only while the view captures an image (vtkPVView::PrepareForScreenshot to
+   * CleanupAfterScreenshot); other still renders trace one frame and the idle refinement
+   * continues, so the window never freezes. Defaults: on, 40, 256, 0, off.
+   */
+  void SetConvergeStillRenders(bool value);
+  vtkGetMacro(ConvergeStillRenders, bool);
+  void SetStillQuality(double value);
+  void SetMaximumStillFrames(int value);
+  void SetStillTimeBudget(double value);
+  vtkSetMacro(InteractiveSession, bool);
+  vtkGetMacro(InteractiveSession, bool);
+  ///@}
+
+  /// Estimated PSNR (dB, tone-mapped) of the shown image; 0 before 2 frames.
+  double GetEstimatedQuality();
+
+  ///@{
+  /**
    * Progress of the mapper, for information-only properties: frames averaged so far, whether the
    * last render traced a frame (0 once converged), and what the denoiser last used.
    */
@@ -154,6 +175,9 @@ protected:
     vtkInformationVector* outputVector) override;
 
   bool ProgressiveRefinement = true;
+  bool ConvergeStillRenders = true;
+  bool InteractiveSession = false;
+  bool ProgressRegistered = false; ///< the mapper's progress reaches ParaView's progress bar
   bool UnsupportedInput = false;
   char* PassesFileName = nullptr;
 

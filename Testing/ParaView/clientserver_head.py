@@ -78,6 +78,7 @@ def build_scene(name: str, remote: bool):
     ColorBy(display, ("POINTS", "ImageScalars"))
     display.DenoiserUseNetwork = 0
     display.MaximumAccumulatedFrames = FRAMES
+    display.ConvergeStillRenders = 0  # frames are counted per render (streaming passes)
     display.PassesFileName = os.path.join(TEMP, name + ".exr")
     GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
     GetOpacityTransferFunction("ImageScalars").ApplyPreset(PRESET, True)

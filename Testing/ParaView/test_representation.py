@@ -108,6 +108,9 @@ display.DenoiserModelFile = MODEL
 # The baseline uses the fixed guide so that it does not depend on the trained model.
 display.DenoiserUseNetwork = 0
 display.MaximumAccumulatedFrames = 16
+# This test counts frames per render: still renders trace one frame each (test_still_capture.py
+# tests converging still renders).
+display.ConvergeStillRenders = 0
 
 preset_file = os.path.join(SOURCE_DIR, "Data", "TransferFunctions", "head.json")
 check(ImportPresets(preset_file), "ImportPresets(head.json)")
