@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -385,7 +386,20 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.StillQuality = this->StillQuality;
     request.MaximumStillFrames = this->MaximumStillFrames;
     request.StillTimeBudget = this->StillTimeBudget;
-    request.Progress = [this](double fraction) { this->UpdateProgress(fraction); };
+    request.Progress = [this](double fraction)
+    {
+      // ParaView's progress bar shows this text (vtkPVProgressHandler).
+      const ptv::FrameLoop& l = this->Internals->Loop;
+      std::ostringstream text;
+      text << "Path tracing a still: " << l.GetAccumulatedFrames() << " frames";
+      if (l.GetEstimatedQuality() > 0.0)
+      {
+        text << ", " << std::fixed << std::setprecision(1) << l.GetEstimatedQuality() << " of "
+             << this->StillQuality << " dB";
+      }
+      this->SetProgressText(text.str().c_str());
+      this->UpdateProgress(fraction);
+    };
     GatherClipping(this, scene, this->Internals->ClipProblems);
     GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
 

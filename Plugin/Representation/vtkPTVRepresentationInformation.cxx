@@ -40,6 +40,8 @@ void vtkPTVRepresentationInformation::CopyFromObject(vtkObject* object)
   this->NeedsRefinement = repr->GetNeedsRefinement();
   this->LastTraceTime = mapper->GetLastTraceTime();
   this->LastDenoiseTime = mapper->GetLastDenoiseTime();
+  this->EstimatedQuality = mapper->GetEstimatedQuality();
+  this->StillConverged = mapper->GetStillConverged();
   const char* backend = mapper->GetActiveBackend();
   this->ActiveBackend = backend ? backend : "none";
   const char* status = mapper->GetDenoiserStatus();
@@ -64,7 +66,8 @@ void vtkPTVRepresentationInformation::CopyToStream(vtkClientServerStream* stream
   stream->Reset();
   *stream << vtkClientServerStream::Reply << this->Found << this->AccumulatedFrames
           << this->MaximumAccumulatedFrames << this->LastRenderTraced << this->NeedsRefinement
-          << this->LastTraceTime << this->LastDenoiseTime << this->ActiveBackend.c_str()
+          << this->LastTraceTime << this->LastDenoiseTime << this->EstimatedQuality
+          << this->StillConverged << this->ActiveBackend.c_str()
           << this->DenoiserStatus.c_str() << vtkClientServerStream::End;
 }
 
@@ -79,8 +82,10 @@ void vtkPTVRepresentationInformation::CopyFromStream(const vtkClientServerStream
     !stream->GetArgument(0, 3, &this->LastRenderTraced) ||
     !stream->GetArgument(0, 4, &this->NeedsRefinement) ||
     !stream->GetArgument(0, 5, &this->LastTraceTime) ||
-    !stream->GetArgument(0, 6, &this->LastDenoiseTime) || !stream->GetArgument(0, 7, &backend) ||
-    !stream->GetArgument(0, 8, &status))
+    !stream->GetArgument(0, 6, &this->LastDenoiseTime) ||
+    !stream->GetArgument(0, 7, &this->EstimatedQuality) ||
+    !stream->GetArgument(0, 8, &this->StillConverged) || !stream->GetArgument(0, 9, &backend) ||
+    !stream->GetArgument(0, 10, &status))
   {
     vtkErrorMacro(<< "Error parsing the Path Traced Volume information from the stream.");
     this->Found = false;
@@ -101,6 +106,8 @@ void vtkPTVRepresentationInformation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NeedsRefinement: " << this->NeedsRefinement << endl;
   os << indent << "LastTraceTime: " << this->LastTraceTime << endl;
   os << indent << "LastDenoiseTime: " << this->LastDenoiseTime << endl;
+  os << indent << "EstimatedQuality: " << this->EstimatedQuality << endl;
+  os << indent << "StillConverged: " << this->StillConverged << endl;
   os << indent << "ActiveBackend: " << this->ActiveBackend << endl;
   os << indent << "DenoiserStatus: " << this->DenoiserStatus << endl;
 }

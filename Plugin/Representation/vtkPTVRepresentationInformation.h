@@ -61,6 +61,10 @@ public:
   /// Milliseconds spent tracing / denoising in the last render (0 if it did not).
   vtkGetMacro(LastTraceTime, double);
   vtkGetMacro(LastDenoiseTime, double);
+  /// Estimated PSNR (dB) of the shown image, and whether the last still render reached
+  /// StillQuality (vtkPathTracedVolumeMapper).
+  vtkGetMacro(EstimatedQuality, double);
+  vtkGetMacro(StillConverged, bool);
   /// "CPU" or "CUDA" ("none" before the first frame or when not found).
   const char* GetActiveBackend() { return this->ActiveBackend.c_str(); }
   /// What the last denoise used ("" when not found).
@@ -77,6 +81,8 @@ protected:
   bool NeedsRefinement = false;
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;
+  double EstimatedQuality = 0.0;
+  bool StillConverged = false;
   std::string ActiveBackend = "none";
   std::string DenoiserStatus;
 

@@ -152,6 +152,18 @@ def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
     while not os.path.exists(exr) and time.time() < deadline:
         time.sleep(0.1)
     check(os.path.exists(exr), "%s: WritePasses wrote %s" % (name, exr))
+    # A screenshot with ConvergeStillRenders on converges where the view renders.
+    display.ConvergeStillRenders = 1
+    display.MaximumAccumulatedFrames = 1024
+    SaveScreenshot(os.path.join(TEMP, name + "_still.png"), view, ImageResolution=SIZE,
+                   TransparentBackground=0)
+    still = gather_progress(display)
+    print("%s still screenshot: AccumulatedFrames=%d EstimatedQuality=%.2f StillConverged=%r"
+          % (name, still.GetAccumulatedFrames(), still.GetEstimatedQuality(),
+             still.GetStillConverged()))
+    check(still.GetStillConverged() and still.GetEstimatedQuality() >= 40.0
+          and still.GetAccumulatedFrames() > FRAMES,
+          "%s: a screenshot converges to StillQuality where the view renders" % name)
     return read_png(png)
 
 

@@ -7,7 +7,9 @@ and ``PYTHONPATH`` (<build>/python) set, as ctest does.
 1. the head CT through XMLImageDataReader, shown as "Path Traced Volume", coloured by
    ImageScalars with the "Head Two-Band (paper)" preset (colour and opacity), front view,
    200x200, rendered until MaximumAccumulatedFrames (16) is reached, denoised with the fixed
-   guide; the screenshot is compared with Testing/Data/Baseline/ParaView_PathTracedVolume.png;
+   guide (DisplayPass Denoised: the default shows Converged, the denoised image faded into the
+   raw mean, whose raw share would put the noise into the baseline); the screenshot is compared
+   with Testing/Data/Baseline/ParaView_PathTracedVolume.png;
 2. every representation property is checked to take effect: DisplayPass and Denoise change the
    image without tracing; SamplesPerFrame=4 for one frame equals four 1-spp frames; renders stop
    tracing at MaximumAccumulatedFrames and a camera change restarts at frame 1; progressive
@@ -203,6 +205,7 @@ def mapper_pass(name):
 renders = render_until_converged()
 check(frames() == 16 and not mapper().GetLastRenderTraced(),
       "converged at MaximumAccumulatedFrames=16 after %d renders (frames %d)" % (renders, frames()))
+display.DisplayPass = "Denoised"  # see the module docstring
 image = screenshot(BASELINE_NAME)
 check(frames() == 16 and not mapper().GetLastRenderTraced(),
       "the screenshot of a converged view does not trace")
@@ -238,10 +241,19 @@ print("DisplayPass=Normal vs default: mean |diff| = %.2f/255, %.1f%% pixels"
       % (mean, 100 * fraction))
 check(mean > 20 and not traced and frames() == 16,
       "DisplayPass='Normal' shows another image without tracing")
+display.DisplayPass = "Denoised"
+Render(view)
+mean, _ = difference(screenshot("pv_ptv_denoised_pass.png"), image)
+check(mean == 0, "DisplayPass='Denoised' shows the denoised image again (mean %.4f)" % mean)
 display.DisplayPass = "Default"
 Render(view)
-mean, _ = difference(screenshot("pv_ptv_default.png"), image)
-check(mean == 0, "DisplayPass='Default' shows the denoised image again (mean %.4f)" % mean)
+traced = mapper().GetLastRenderTraced()
+converged = screenshot("pv_ptv_default.png")
+mean_converged, _ = difference(converged, image)
+print("DisplayPass=Default (Converged) vs Denoised: mean |diff| = %.2f/255" % mean_converged)
+check(0 < mean_converged < 5 and not traced,
+      "DisplayPass='Default' shows the converged image (close to, not equal to, the denoised)")
+image = converged  # the default image from here on
 
 display.Denoise = 0
 Render(view)
@@ -423,6 +435,7 @@ ColorBy(rgba_display, ("POINTS", "rgba"))
 rgba_display.MapScalars = 0
 rgba_display.MultiComponentsMapping = 1
 rgba_display.Denoise = 0
+rgba_display.ConvergeStillRenders = 0  # one frame: every covered pixel is fully covered
 view.ResetCamera()
 Render(view)
 rgba_mapper = rgba_display.GetClientSideObject().GetActiveRepresentation().GetActor().GetMapper()

@@ -11,7 +11,8 @@ ctest does.
    half's squared error is twice the whole's); the time it took is printed;
 2. SaveAnimation of an 8-frame camera interpolation (30 degrees of orbit, 256x256): every frame
    meets the same target against its own 512-spp reference;
-3. an interactive render still traces one frame; no VTK error or warning is printed.
+3. the session's progress handler (ParaView's progress bar) gets the still render's progress;
+   an interactive render traces one frame; no VTK error or warning is printed.
 The 40 dB target is the issue's; StillQuality is an estimate in the tone-mapped space of
 docs/measuring.md, so the check is on the shown image itself.
 """
@@ -136,6 +137,11 @@ def measured(image, ref, own):
 view.ViewSize = [512, 512]
 ref, own = reference("screenshot_ref", [512, 512], 1024)
 path = os.path.join(TEMP, "screenshot_default.png")
+progress = []  # what ParaView's progress bar is given (the session's progress handler)
+from paraview import servermanager  # noqa: E402
+handler = servermanager.ActiveConnection.Session.GetProgressHandler()
+observer = handler.AddObserver(
+    "ProgressEvent", lambda h, e: progress.append((h.GetLastProgress(), h.GetLastProgressText())))
 start = time.perf_counter()
 SaveScreenshot(path, view, ImageResolution=[512, 512], TransparentBackground=0)
 seconds = time.perf_counter() - start
@@ -148,6 +154,9 @@ check(quality >= TARGET_DB,
       % (quality, psnr(mse(shot, ref)), psnr(own), m.GetAccumulatedFrames(),
          m.GetEstimatedQuality(), seconds))
 check(m.GetStillConverged(), "the screenshot's still render converged")
+handler.RemoveObserver(observer)
+check(len(progress) >= 2 and all("Path tracing a still" in str(t) for _, t in progress),
+      "the progress bar moves during the still render: %s" % progress)
 
 # --- 2. SaveAnimation, 8 frames, 256x256 ------------------------------------------------------
 view.ViewSize = [256, 256]
