@@ -110,7 +110,7 @@ int TestPTVConcurrentRender(int, char*[])
   const int frames = 4;
   const Images first = RenderScene(0, frames, nullptr);
   const Images second = RenderScene(1, frames, nullptr);
-  Check(first.size() == 13 && second.size() == 13, "12 passes each (9 traced + 3 denoiser)");
+  Check(first.size() == 14 && second.size() == 14, "13 passes each (9 traced + 4 denoiser)");
   Check(first != second, "the two scenes differ");
 
   for (int round = 0; round < 3; ++round)

@@ -15,7 +15,9 @@ script itself never renders while it waits:
    a builtin session the information properties must agree): the GUI must reach 8 frames on its
    own, then stop rendering (no render for 1.5 s after that);
 3. an "interaction": the camera turns and the view renders once (as the GUI does on a mouse
-   drag): the accumulation restarts (1 or 2 frames after that render, fewer than 8) and again
+   drag): the accumulation restarts (1 or 2 frames after that render, fewer than 8: that still
+   render traces one frame, because the plugin marks the GUI's representations
+   InteractiveSession, so a still render outside a capture never freezes the window) and again
    reaches 8 on its own, then stops;
 4. writes PASS or FAIL lines to $PTV_TEST_TEMP/gui_progressive_refinement.txt, prints them and
    exits (os._exit: the GUI has no Python quit command), with status 0 on success.
