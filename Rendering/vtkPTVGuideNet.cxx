@@ -1,5 +1,6 @@
 #include "vtkPTVGuideNet.h"
 
+#include "ptvDataDirectory.h"
 #include "ptvGuideNetSession.h"
 
 #include "vtkFloatArray.h"
@@ -13,10 +14,6 @@
 #include <chrono>
 #include <cstdlib>
 #include <vector>
-
-#ifndef PTV_SOURCE_DATA_DIR
-#define PTV_SOURCE_DATA_DIR ""
-#endif
 
 namespace
 {
@@ -96,14 +93,7 @@ vtkPTVGuideNet::~vtkPTVGuideNet()
 //------------------------------------------------------------------------------
 std::string vtkPTVGuideNet::GetDefaultModelFile()
 {
-  if (const char* env = std::getenv("PTV_DATA_DIR"))
-  {
-    if (*env)
-    {
-      return std::string(env) + "/Models/guidenet.onnx";
-    }
-  }
-  return std::string(PTV_SOURCE_DATA_DIR) + "/Models/guidenet.onnx";
+  return ptv::DataDirectory() + "/Models/guidenet.onnx";
 }
 
 //------------------------------------------------------------------------------

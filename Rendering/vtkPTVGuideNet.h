@@ -100,8 +100,9 @@ public:
   vtkGetMacro(LastRunTime, double);
 
   /**
-   * The shipped model: $PTV_DATA_DIR/Models/guidenet.onnx when PTV_DATA_DIR is set, else the
-   * source tree's Data/Models/guidenet.onnx.
+   * The shipped model: $PTV_DATA_DIR/Models/guidenet.onnx when PTV_DATA_DIR is set, else
+   * Data/Models/guidenet.onnx in the plugin folder (beside libvtkPTVRendering.so: the build tree
+   * and an install alike).
    */
   static std::string GetDefaultModelFile();
 

@@ -1,5 +1,7 @@
 #include "vtkPTVTransferFunctionPreset.h"
 
+#include "ptvDataDirectory.h"
+
 #include "vtkColorTransferFunction.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
@@ -13,9 +15,6 @@
 #include <sstream>
 #include <vector>
 
-#ifndef PTV_SOURCE_DATA_DIR
-#define PTV_SOURCE_DATA_DIR ""
-#endif
 
 namespace
 {
@@ -65,14 +64,7 @@ vtkPTVTransferFunctionPreset::~vtkPTVTransferFunctionPreset()
 //------------------------------------------------------------------------------
 std::string vtkPTVTransferFunctionPreset::GetDefaultPresetDirectory()
 {
-  if (const char* env = std::getenv("PTV_DATA_DIR"))
-  {
-    if (*env)
-    {
-      return std::string(env) + "/TransferFunctions";
-    }
-  }
-  return std::string(PTV_SOURCE_DATA_DIR) + "/TransferFunctions";
+  return ptv::DataDirectory() + "/TransferFunctions";
 }
 
 //------------------------------------------------------------------------------

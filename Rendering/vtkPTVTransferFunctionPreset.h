@@ -66,7 +66,7 @@ public:
 
   /**
    * The folder of the shipped presets: $PTV_DATA_DIR/TransferFunctions when PTV_DATA_DIR is set,
-   * else the source tree's Data/TransferFunctions.
+   * else Data/TransferFunctions in the plugin folder (beside libvtkPTVRendering.so).
    */
   static std::string GetDefaultPresetDirectory();
 

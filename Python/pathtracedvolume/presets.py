@@ -54,12 +54,20 @@ _COLOR_SPACES = tuple(_SPACE_SUFFIX)
 def presets_dir() -> Path:
     """Folder with the project's presets.
 
-    ``$PTV_PRESETS_DIR`` when set, else
-    ``<repository>/Data/TransferFunctions``.
+    ``$PTV_PRESETS_DIR`` when set, else ``$PTV_DATA_DIR/TransferFunctions``, else the plugin
+    folder's ``Data/TransferFunctions`` when this package is the plugin folder's
+    (``<plugin folder>/python/pathtracedvolume``: an install or the build tree), else
+    ``<repository>/Data/TransferFunctions`` (the package used from the source tree).
     """
     env = os.environ.get("PTV_PRESETS_DIR")
     if env:
         return Path(env).expanduser().resolve()
+    data = os.environ.get("PTV_DATA_DIR")
+    if data:
+        return Path(data).expanduser().resolve() / "TransferFunctions"
+    plugin = Path(__file__).resolve().parents[2] / "Data" / "TransferFunctions"
+    if plugin.is_dir():
+        return plugin
     return repo_root() / "Data" / "TransferFunctions"
 
 

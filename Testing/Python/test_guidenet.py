@@ -494,8 +494,13 @@ def test_cxx_runner_threads_and_reload(ptv, tmp_path: Path) -> None:
 
 def test_default_model_file(ptv, monkeypatch) -> None:
     monkeypatch.delenv("PTV_DATA_DIR", raising=False)
+    # Beside the library (the build tree's plugin folder), a copy of the shipped model; never the
+    # source tree's (an install must not depend on it).
     default = Path(ptv.vtkPTVGuideNet.GetDefaultModelFile())
-    assert default == REPO / "Data" / "Models" / "guidenet.onnx"
+    assert default.parts[-3:] == ("Data", "Models", "guidenet.onnx")
+    assert (default.parents[2] / "libvtkPTVRendering.so").exists(), default
+    assert default.read_bytes() == (REPO / "Data" / "Models" / "guidenet.onnx").read_bytes()
+    assert REPO / "Data" not in default.parents
     monkeypatch.setenv("PTV_DATA_DIR", "/somewhere/data")
     assert ptv.vtkPTVGuideNet.GetDefaultModelFile() == "/somewhere/data/Models/guidenet.onnx"
     assert ptv.vtkPTVGuideNet.GetRuntimeVersion().startswith("1.")

@@ -37,7 +37,14 @@ def functions(name: str):
 
 
 def test_presets_dir_is_data_transferfunctions() -> None:
-    assert ptv_presets.presets_dir() == PRESET_DIR
+    # The built package reads the plugin folder's copy of Data/TransferFunctions (an install
+    # carries its own): same files, same contents.
+    found = ptv_presets.presets_dir()
+    assert found.parts[-2:] == ("Data", "TransferFunctions")
+    names = sorted(p.name for p in PRESET_DIR.glob("*.json"))
+    assert sorted(p.name for p in found.glob("*.json")) == names
+    for name in names:
+        assert (found / name).read_bytes() == (PRESET_DIR / name).read_bytes(), name
 
 
 def test_one_file_per_dataset_with_two_presets(manifest: dict) -> None:
