@@ -12,6 +12,7 @@
 //  - dependent colour data (IndependentComponents off: RGB + opacity, colour value + opacity)
 //    gives the data's colours; 3 components or independent components are errors.
 #include "ptvTestCheck.h"
+#include "ptvTestScene.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCommand.h"
@@ -47,50 +48,15 @@
 namespace
 {
 
-struct Scene
+/// The analytic scene, tracer only (Denoise off: TestDenoise turns it on), one frame per render
+/// (TestPTVStillRender tests still renders).
+struct Scene : AnalyticScene
 {
-  vtkNew<vtkRTAnalyticSource> Source;
-  vtkNew<vtkColorTransferFunction> Color;
-  vtkNew<vtkPiecewiseFunction> Opacity;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkPathTracedVolumeMapper> Mapper;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Renderer;
-  vtkNew<vtkRenderWindow> Window;
-
   explicit Scene(int size = 64)
+    : AnalyticScene(size)
   {
-    this->Source->SetWholeExtent(-16, 16, -16, 16, -16, 16);
-    this->Color->AddRGBPoint(37, 0.2, 0.4, 1.0);
-    this->Color->AddRGBPoint(277, 1.0, 0.9, 0.5);
-    this->Opacity->AddPoint(37, 0.0);
-    this->Opacity->AddPoint(150, 0.0);
-    this->Opacity->AddPoint(277, 0.8);
-    this->Property->SetColor(this->Color);
-    this->Property->SetScalarOpacity(this->Opacity);
-    this->Property->ShadeOn();
-    this->Mapper->SetInputConnection(this->Source->GetOutputPort());
-    this->Mapper->DenoiseOff(); // the tracer's behaviour; TestDenoise turns it on
-    this->Mapper->ConvergeStillRendersOff(); // one frame per render; TestStill turns it on
-    this->Volume->SetMapper(this->Mapper);
-    this->Volume->SetProperty(this->Property);
-    this->Renderer->AddVolume(this->Volume);
-    this->Renderer->SetBackground(0.4, 0.4, 0.4);
-    this->Renderer->GetActiveCamera()->Azimuth(20);
-    this->Renderer->ResetCamera();
-    this->Window->SetSize(size, size);
-    this->Window->AddRenderer(this->Renderer);
-  }
-
-  std::vector<float> Pass(const char* name)
-  {
-    vtkNew<vtkImageData> image;
-    if (!this->Mapper->GetPass(name, image))
-    {
-      return {};
-    }
-    vtkFloatArray* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
-    return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+    this->Mapper->DenoiseOff();
+    this->Mapper->ConvergeStillRendersOff();
   }
 };
 

@@ -9,6 +9,7 @@
 //  - MaximumStillFrames and StillTimeBudget stop a still render that cannot reach its target;
 //    progress events run to 1; with Denoise off the raw mean converges the same way.
 #include "ptvTestCheck.h"
+#include "ptvTestScene.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -35,52 +36,8 @@
 
 namespace
 {
-constexpr int kSize = 64;
 
-struct Scene
-{
-  vtkNew<vtkRTAnalyticSource> Source;
-  vtkNew<vtkColorTransferFunction> Color;
-  vtkNew<vtkPiecewiseFunction> Opacity;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkPathTracedVolumeMapper> Mapper;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Renderer;
-  vtkNew<vtkRenderWindow> Window;
-
-  Scene()
-  {
-    this->Source->SetWholeExtent(-16, 16, -16, 16, -16, 16);
-    this->Color->AddRGBPoint(37, 0.2, 0.4, 1.0);
-    this->Color->AddRGBPoint(277, 1.0, 0.9, 0.5);
-    this->Opacity->AddPoint(37, 0.0);
-    this->Opacity->AddPoint(150, 0.0);
-    this->Opacity->AddPoint(277, 0.8);
-    this->Property->SetColor(this->Color);
-    this->Property->SetScalarOpacity(this->Opacity);
-    this->Property->ShadeOn();
-    this->Mapper->SetInputConnection(this->Source->GetOutputPort());
-    this->Volume->SetMapper(this->Mapper);
-    this->Volume->SetProperty(this->Property);
-    this->Renderer->AddVolume(this->Volume);
-    this->Renderer->SetBackground(0.4, 0.4, 0.4);
-    this->Renderer->GetActiveCamera()->Azimuth(20);
-    this->Renderer->ResetCamera();
-    this->Window->SetSize(kSize, kSize);
-    this->Window->AddRenderer(this->Renderer);
-  }
-
-  std::vector<float> Pass(const char* name)
-  {
-    vtkNew<vtkImageData> image;
-    if (!this->Mapper->GetPass(name, image))
-    {
-      return {};
-    }
-    vtkFloatArray* a = vtkFloatArray::SafeDownCast(image->GetPointData()->GetScalars());
-    return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
-  }
-};
+using Scene = AnalyticScene; // the mapper's defaults: still renders converge
 
 float Tone(float x)
 {

@@ -37,6 +37,9 @@ import numpy as np
 
 from paraview.simple import *  # noqa: F401,F403 (pvpython convention)
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ptvpvtest  # noqa: E402
+
 PLUGIN = os.environ["PTV_PLUGIN"]
 SOURCE_DIR = os.environ["PTV_SOURCE_DIR"]
 HEAD = os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")
@@ -48,13 +51,8 @@ FRAMES = 8
 # Mean |diff| (0..255) allowed between the builtin and the remote screenshot.
 MAX_MEAN_DIFF = 1.0
 
-failures: List[str] = []
-
-
-def check(ok: bool, what: str) -> None:
-    print(("ok     " if ok else "FAILED ") + what, flush=True)
-    if not ok:
-        failures.append(what)
+check = ptvpvtest.Checks()
+failures: List[str] = check.failures
 
 
 def free_port() -> int:
@@ -82,11 +80,7 @@ def build_scene(name: str, remote: bool):
     display.PassesFileName = os.path.join(TEMP, name + ".exr")
     GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
     GetOpacityTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
-    camera = view.GetActiveCamera()
-    camera.SetPosition(0, -1, 0)
-    camera.SetFocalPoint(0, 0, 0)
-    camera.SetViewUp(0, 0, 1)
-    view.ResetCamera()
+    ptvpvtest.front_view(view)
     return view, display
 
 
@@ -167,16 +161,7 @@ def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
     return read_png(png)
 
 
-def read_png(path: str) -> np.ndarray:
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOImage import vtkPNGReader
-    png = vtkPNGReader()
-    png.SetFileName(path)
-    png.Update()
-    image = png.GetOutput()
-    w, h, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
-    return pixels.reshape(h, w, -1)[..., :3]
+read_png = ptvpvtest.read_png
 
 
 def read_passes(path: str) -> dict:

@@ -33,7 +33,7 @@ fi
 env -u PTV_DATA_DIR -u PYTHONPATH -u LD_LIBRARY_PATH \
   PTV_PLUGIN_DIR="$plugin_dir" PTV_HIDDEN_DATA="$source/Data:$build_data" \
   SRC_DATA="$source/Data" BUILD_DATA="$build_data" TEMP_DIR="$temp" PVBATCH="$pvbatch" \
-  SCRIPT="$script" PARAVIEW="$paraview" \
+  SCRIPT="$script" PTV_SCRIPT="$script" PARAVIEW="$paraview" \
   unshare --mount sh -c '
     mount --make-rprivate / &&
     mount -t tmpfs none "$SRC_DATA" &&
@@ -41,7 +41,7 @@ env -u PTV_DATA_DIR -u PYTHONPATH -u LD_LIBRARY_PATH \
     cd "$TEMP_DIR" || exit 1
     "$PVBATCH" --force-offscreen-rendering "$SCRIPT" || exit 1
     [ -z "$PARAVIEW" ] && exit 0
-    PTV_GUI=1 PTV_RESULT="$TEMP_DIR/gui.txt" "$PARAVIEW" --dr \
+    PTV_GUI=1 PTV_RESULT="$TEMP_DIR/gui.txt" timeout 300 "$PARAVIEW" --dr \
       --plugin-search-paths="$PTV_PLUGIN_DIR" --plugins=PathTracedVolume --script="$SCRIPT"
     gui=$?
     echo "GUI:" && cat "$TEMP_DIR/gui.txt" && [ $gui -eq 0 ]'

@@ -41,30 +41,18 @@ import sys
 import numpy as np
 
 from paraview.simple import *  # noqa: F401,F403 (pvbatch convention)
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.util.vtkConstants import VTK_STRING
-from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
-# pvbatch prints VTK errors and warnings through its logger ("ERR|", "WARN|"), which ctest's
-# "ERROR: In |Warning: In " expression does not match: collect them here instead (the output
-# window passes the full "ERROR: In ..." text to observers) and fail on any unexpected one.
-vtk_messages = []
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ptvpvtest  # noqa: E402
 
-
-@calldata_type(VTK_STRING)
-def collect_message(caller, event, text):
-    vtk_messages.append(text)
-
-
-vtkOutputWindow.GetInstance().AddObserver(vtkCommand.ErrorEvent, collect_message)
-vtkOutputWindow.GetInstance().AddObserver(vtkCommand.WarningEvent, collect_message)
-
+# pvbatch prints VTK errors and warnings through its logger, which ctest does not match: collect
+# them instead and fail on any unexpected one.
+vtk_messages = ptvpvtest.collect_vtk_messages()
 LoadPlugin(os.environ["PTV_PLUGIN"], remote=False, ns=globals())
 
 from pathtracedvolume import vtkPTVRendering  # noqa: E402,F401 (registers the mapper's class)
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 
 SOURCE_DIR = os.environ["PTV_SOURCE_DIR"]
 TEMP = os.environ.get("PTV_TEST_TEMP", ".")
@@ -79,13 +67,8 @@ MAX_MEAN_DIFF = 0.5
 PIXEL_DIFF = 16
 MAX_PIXEL_FRACTION = 0.005
 
-failures = []
-
-
-def check(ok, what):
-    print(("ok     " if ok else "FAILED ") + what)
-    if not ok:
-        failures.append(what)
+check = ptvpvtest.Checks()
+failures = check.failures
 
 
 # --- scene ------------------------------------------------------------------------------------
@@ -130,11 +113,8 @@ check(np.allclose(list(lut.RGBPoints), preset["RGBPoints"])
       % (len(lut.RGBPoints), len(pwf.Points)))
 
 # Front view: the CT's y axis runs front to back and z up (as scripts/render.py).
+ptvpvtest.front_view(view)
 camera = view.GetActiveCamera()
-camera.SetPosition(0, -1, 0)
-camera.SetFocalPoint(0, 0, 0)
-camera.SetViewUp(0, 0, 1)
-view.ResetCamera()
 
 
 def representation():
@@ -165,14 +145,7 @@ def screenshot(name):
     return read_png(path)
 
 
-def read_png(path):
-    png = vtkPNGReader()
-    png.SetFileName(path)
-    png.Update()
-    image = png.GetOutput()
-    w, h, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
-    return pixels.reshape(h, w, -1)[..., :3]
+read_png = ptvpvtest.read_png
 
 
 def difference(a, b):
@@ -451,10 +424,7 @@ check(albedo is not None and len(albedo) > 100
       "MapScalars=0 + MultiComponentsMapping=1: the data's RGB colours the volume")
 Hide(rgba_source, view)
 Show(reader, view)
-camera.SetPosition(0, -1, 0)
-camera.SetFocalPoint(0, 0, 0)
-camera.SetViewUp(0, 0, 1)
-view.ResetCamera()
+ptvpvtest.front_view(view)
 
 # --- 2e. the network: the shipped model must load (a missing model fails the test) --------------
 display.DenoiserUseNetwork = 1

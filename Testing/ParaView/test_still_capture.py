@@ -24,49 +24,25 @@ import time
 import numpy as np
 
 from paraview.simple import *  # noqa: F401,F403 (pvbatch convention)
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.util.vtkConstants import VTK_STRING
-from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
-vtk_messages = []
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ptvpvtest  # noqa: E402
 
-
-@calldata_type(VTK_STRING)
-def collect_message(caller, event, text):
-    vtk_messages.append(text)
-
-
-vtkOutputWindow.GetInstance().AddObserver(vtkCommand.ErrorEvent, collect_message)
-vtkOutputWindow.GetInstance().AddObserver(vtkCommand.WarningEvent, collect_message)
-
+vtk_messages = ptvpvtest.collect_vtk_messages()
 LoadPlugin(os.environ["PTV_PLUGIN"], remote=False, ns=globals())
 
 from pathtracedvolume import vtkPTVRendering  # noqa: E402,F401 (registers the mapper's class)
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 
 SOURCE_DIR = os.environ["PTV_SOURCE_DIR"]
 TEMP = os.environ.get("PTV_TEST_TEMP", ".")
 os.makedirs(TEMP, exist_ok=True)
 PRESET = "Head Two-Band (paper)"
 TARGET_DB = 40.0
-failures = []
-
-
-def check(ok, what):
-    print(("ok     " if ok else "FAILED ") + what, flush=True)
-    if not ok:
-        failures.append(what)
+check = ptvpvtest.Checks()
 
 
 def read_png(path):
-    png = vtkPNGReader()
-    png.SetFileName(path)
-    png.Update()
-    image = png.GetOutput()
-    w, h, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
-    return pixels.reshape(h, w, -1)[..., :3] / 255.0
+    return ptvpvtest.read_png(path) / 255.0
 
 
 def mse(a, b):
@@ -89,11 +65,8 @@ ColorBy(display, ("POINTS", "ImageScalars"))
 ImportPresets(os.path.join(SOURCE_DIR, "Data", "TransferFunctions", "head.json"))
 GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
 GetOpacityTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
+ptvpvtest.front_view(view)
 camera = view.GetActiveCamera()
-camera.SetPosition(0, -1, 0)
-camera.SetFocalPoint(0, 0, 0)
-camera.SetViewUp(0, 0, 1)
-view.ResetCamera()
 
 
 def mapper():
@@ -167,10 +140,7 @@ scene.StartTime = 0.0
 scene.EndTime = 1.0
 track = GetCameraTrack(view=view)
 start_cam, end_cam = CameraKeyFrame(), CameraKeyFrame()
-camera.SetPosition(0, -1, 0)
-camera.SetFocalPoint(0, 0, 0)
-camera.SetViewUp(0, 0, 1)
-view.ResetCamera()
+ptvpvtest.front_view(view)
 for key, t, azimuth in ((start_cam, 0.0, 0.0), (end_cam, 1.0, 30.0)):
     camera.Azimuth(azimuth)
     key.KeyTime = t
@@ -204,7 +174,7 @@ check(mapper().GetLastRenderFrames() == 1, "an interactive render traces one fra
       % mapper().GetLastRenderFrames())
 
 check(not vtk_messages, "no VTK error or warning: %s" % vtk_messages)
-if failures:
-    print("%d check(s) FAILED" % len(failures))
+if check.failures:
+    print("%d check(s) FAILED" % len(check.failures))
     sys.exit(1)
 print("PASS")
