@@ -135,32 +135,6 @@ VTKPTVFILTERS_EXPORT bool WriteScalarGrids(const std::string& file,
   const std::vector<std::pair<std::string, const DenseVolume*>>& grids, double background,
   std::string& error);
 
-/**
- * For tests only: write @a file with a small Vec3s grid named @a vectorGridName (a few active
- * voxels) and, when @a scalarGridName is not empty, a small float grid of that name after it.
- */
-VTKPTVFILTERS_EXPORT bool WriteTestVectorGrid(const std::string& file,
-  const std::string& vectorGridName, const std::string& scalarGridName, std::string& error);
-
-/**
- * For tests only: write @a file with a small float grid named @a gridName whose transform is not
- * supported: @a transform is "nonuniform" (ScaleMap, voxel size 1 x 2 x 1), "rotated"
- * (AffineMap, 45 degrees about z) or "frustum" (NonlinearFrustumMap).
- */
-VTKPTVFILTERS_EXPORT bool WriteTestTransformedGrid(const std::string& file,
-  const std::string& gridName, const std::string& transform, std::string& error);
-
-/**
- * For tests only: write @a file (directly, not atomically) with a float grid named @a gridName
- * stored with OpenVDB's io::COMPRESS_* flags @a compression (0: raw, 1: zip, 2: active mask,
- * 4: blosc, or'ed), as half floats if @a asHalf (type suffix "_HalfFloat"). The grid: voxels
- * (i, j, k) in [0, 20)^3, inactive with values -1 or +1 where (i + 3j + 7k) % 5 == 0, else active
- * with 0.25 * ((i + 3j + 7k) % 17) (exact as half floats); plus an active 8^3 tile of 2 at
- * (64, 0, 0). Every value block layout of io::readCompressedValues occurs.
- */
-VTKPTVFILTERS_EXPORT bool WriteTestStorageGrid(const std::string& file,
-  const std::string& gridName, unsigned int compression, bool asHalf, std::string& error);
-
 } // namespace ptv
 
 #endif // ptvOpenVDBGrid_h

@@ -9,6 +9,7 @@
 //   writer: no input, no scalars, short scalars, 3-component scalars, non-uniform spacing,
 //           rotated direction matrix, unwritable folder.
 #include "ptvTestCheck.h"
+#include "ptvTestVDBWriters.h"
 #include "ptvOpenVDBGrid.h"
 #include "vtkCommand.h"
 #include "vtkExecutive.h"
@@ -290,7 +291,7 @@ void ReaderErrors(const std::string& dir)
         const std::string file = dir + "/ptv_errors_storage_" + std::to_string(compression) +
           (asHalf ? "_half" : "") + ".vdb";
         std::string error;
-        Check(ptv::WriteTestStorageGrid(file, "density", compression, asHalf, error),
+        Check(ptvtest::WriteTestStorageGrid(file, "density", compression, asHalf, error),
           name + ": WriteTestStorageGrid: " + error);
         vtkNew<vtkPTVOpenVDBReader> reader;
         Observed observed;
@@ -349,7 +350,7 @@ void ReaderErrors(const std::string& dir)
   // A vec3s grid, and a file with no scalar grid at all.
   const std::string vectors = dir + "/ptv_errors_vec3.vdb";
   std::string error;
-  Check(ptv::WriteTestVectorGrid(vectors, "velocity", "", error),
+  Check(ptvtest::WriteTestVectorGrid(vectors, "velocity", "", error),
     "WriteTestVectorGrid failed: " + error);
   ExpectReadError("vec3s grid", vectors.c_str(), "velocity",
     { "grid 'velocity' is of type vec3s; only scalar float/double grids are supported" });
@@ -365,7 +366,7 @@ void ReaderErrors(const std::string& dir)
   for (const auto& t : transforms)
   {
     const std::string file = dir + "/ptv_errors_" + t.Kind + ".vdb";
-    Check(ptv::WriteTestTransformedGrid(file, "warped", t.Kind, error),
+    Check(ptvtest::WriteTestTransformedGrid(file, "warped", t.Kind, error),
       std::string("WriteTestTransformedGrid(") + t.Kind + ") failed: " + error);
     ExpectReadError(std::string(t.Kind) + " transform", file.c_str(), nullptr,
       { "'warped'", t.Map, "only uniform-scale linear transforms are supported" });

@@ -13,6 +13,7 @@
 //     NaN, +-Inf and -0 (background 1) must read back bit for bit, float and double, including a
 //     whole 8^3 leaf starting with NaN, and the fuzzer's seed image (1, 2, NaN, +Inf, zeros).
 #include "ptvTestCheck.h"
+#include "ptvTestVDBWriters.h"
 #include "ptvOpenVDBGrid.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -517,7 +518,7 @@ void GridListing(const std::string& dir)
   // A vec3s grid listed before a scalar grid (OpenVDB lists grids sorted by name): listed, and
   // skipped by the default selection.
   const std::string mixed = dir + "/ptv_roundtrip_mixed.vdb";
-  Check(ptv::WriteTestVectorGrid(mixed, "flow", "smoke", error),
+  Check(ptvtest::WriteTestVectorGrid(mixed, "flow", "smoke", error),
     "mixed: WriteTestVectorGrid failed: " + error);
   vtkNew<vtkPTVOpenVDBReader> mixedReader;
   mixedReader->SetFileName(mixed.c_str());
