@@ -19,6 +19,8 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT / "Python") not in sys.path:
     sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
 
+from pathtracedvolume.metrics import quality, tonemap  # noqa: E402,F401 (the project's metrics)
+
 PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
           "ScatterDepth", "ScatterPosition", "ScatterNormal"]
 BACKGROUND = (0.32, 0.34, 0.43)
@@ -30,23 +32,6 @@ Passes = Dict[str, np.ndarray]
 
 
 # --- metrics and timing -------------------------------------------------------------------
-def tonemap(x: np.ndarray) -> np.ndarray:
-    """``clip(max(0, x)^(1/2.2), 0, 1)`` (NaN maps to 0)."""
-    return np.clip(np.power(np.maximum(np.nan_to_num(np.asarray(x, np.float32)), 0.0),
-                            1.0 / 2.2), 0.0, 1.0)
-
-
-def quality(reference: np.ndarray, image: np.ndarray) -> Tuple[float, float]:
-    """(PSNR, SSIM) of the tone-mapped image against the tone-mapped reference (scikit-image,
-    data_range 1). SSIM uses the largest odd window that fits (7 for ordinary images)."""
-    from skimage.metrics import peak_signal_noise_ratio, structural_similarity
-    ref, img = tonemap(reference), tonemap(image)
-    psnr = float(peak_signal_noise_ratio(ref, img, data_range=1.0))
-    win = min(7, *ref.shape[:2])
-    win -= 1 - win % 2
-    ssim = (float(structural_similarity(ref, img, data_range=1.0, channel_axis=2, win_size=win))
-            if win >= 3 else float("nan"))
-    return psnr, ssim
 
 
 def timed(fn: Callable[[], T], repeats: int) -> Tuple[float, T]:

@@ -17,15 +17,15 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 import torch
 
+from pathtracedvolume import metrics
+
 from . import exr_io
 from .features import build_features
 
 Tensor = torch.Tensor
 
 
-def tonemap_np(x: np.ndarray) -> np.ndarray:
-    """``clip(max(0, x)^(1/2.2), 0, 1)``."""
-    return np.clip(np.power(np.maximum(np.asarray(x, np.float32), 0), 1 / 2.2), 0, 1)
+tonemap_np = metrics.tonemap  # the NumPy tone map (pathtracedvolume.metrics)
 
 
 def tonemap(x: Tensor, eps: float = 1e-6) -> Tensor:
@@ -34,10 +34,7 @@ def tonemap(x: Tensor, eps: float = 1e-6) -> Tensor:
     return torch.clamp(torch.clamp_min(x, eps) ** (1.0 / 2.2), 0.0, 1.0)
 
 
-def psnr(image: np.ndarray, reference: np.ndarray) -> float:
-    """PSNR of tone-mapped ``(..., 3)`` or ``(3, ...)`` images (scikit-image, data_range 1)."""
-    from skimage.metrics import peak_signal_noise_ratio
-    return float(peak_signal_noise_ratio(tonemap_np(reference), tonemap_np(image), data_range=1.0))
+psnr = metrics.psnr  # PSNR of tone-mapped images (pathtracedvolume.metrics)
 
 
 def chw(a: np.ndarray) -> Tensor:

@@ -57,15 +57,7 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_OUT = REPO_ROOT / ".cache" / "training" / "v1"
 
 
-def tonemap(x: np.ndarray) -> np.ndarray:
-    """``clip(max(0, x)^(1/2.2), 0, 1)`` (float32)."""
-    return np.clip(np.power(np.maximum(np.asarray(x, np.float32), 0), 1 / 2.2), 0, 1)
-
-
-def psnr(image: np.ndarray, reference: np.ndarray) -> float:
-    """PSNR of tone-mapped images (scikit-image, data_range 1)."""
-    from skimage.metrics import peak_signal_noise_ratio
-    return float(peak_signal_noise_ratio(tonemap(reference), tonemap(image), data_range=1.0))
+from pathtracedvolume.metrics import psnr, tonemap  # noqa: E402,F401 (the project's metrics)
 
 
 def _rng(seed: int, dataset: str, index: int, stream: int = 0) -> np.random.Generator:
