@@ -1,8 +1,9 @@
 """Path-trace the head CT in ParaView from Python and save a PNG and the EXR render passes.
 
 Loads the PathTracedVolume plugin, opens the head CT, switches its representation to
-"Path Traced Volume", applies the "Head Two-Band (paper)" preset, renders until N frames are
-accumulated (progressive refinement through the view's streaming passes), saves a screenshot,
+"Path Traced Volume", applies the "Head Two-Band (paper)" preset, renders (a still render:
+until the estimated quality reaches StillQuality or N frames are accumulated; the view's
+streaming passes refine further only if it stopped short of both), saves a screenshot,
 writes every render pass to one EXR with the representation's Write Passes command, and reads the
 passes back as numpy arrays.
 
@@ -82,9 +83,9 @@ def run(args: argparse.Namespace) -> Dict[str, np.ndarray]:
     camera.SetViewUp(0, 0, 1)
     view.ResetCamera()
 
-    simple.Render(view)
-    while view.SMProxy.StreamingUpdate(True):  # progressive refinement, until converged
-        pass
+    simple.Render(view)  # a still render: traces until the estimate reaches StillQuality
+    while view.SMProxy.StreamingUpdate(True):  # refinement up to MaximumAccumulatedFrames
+        pass                                    # (nothing more once the still has converged)
     display.UpdatePropertyInformation()
     print("frames %s on %s, denoiser: %s" % (display.GetProperty("AccumulatedFrames").GetData(),
                                              display.GetProperty("ActiveBackend").GetData(),
