@@ -166,15 +166,22 @@ double Convergence::Combine(
   {
     return 0.0; // statistics of another accumulation: nothing to say
   }
-  this->DenoiserError.assign(n, 0.0f);
-  this->Variance.assign(n, 0.0f);
-  this->HalfVariance.assign(n, 0.0f);
-  this->RawWeight.assign(n, 0.0f);
+  if (count < 2)
+  {
+    if (denoised)
+    {
+      std::copy(denoised, denoised + 3 * n, shown); // one frame: no variance, the denoised image
+    }
+    return 0.0;
+  }
+  // Every pixel is written below; the denoiser's maps only exist with a denoised image.
+  this->HalfVariance.resize(n);
+  this->DenoiserError.resize(denoised ? n : 0);
+  this->Variance.resize(denoised ? n : 0);
   const int k = count;
   const int odd = (k + 1) / 2;
   const int even = k - odd;
-  const float halfScale =
-    even > 0 ? static_cast<float>(odd) * static_cast<float>(even) / (float(k) * float(k)) : 0.0f;
+  const float halfScale = static_cast<float>(odd) * static_cast<float>(even) / (float(k) * float(k));
   const ToneTable& g = Tone();
   WithThreads(threads,
     [&]()
@@ -189,57 +196,53 @@ double Convergence::Combine(
             {
               const std::size_t i = 3 * p + c;
               const float m = mean[i];
+              const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
+              const float half = g(this->OddMean[i]) - g(other);
+              h += half * half * halfScale;
               if (denoised)
               {
                 const float diff = g(denoised[i]) - g(m);
                 e += diff * diff;
-              }
-              if (even > 0)
-              {
                 const float slope = ToneSlope(g, m);
                 v += std::max(this->SecondMoment[i] - m * m, 0.0f) / float(k - 1) * slope * slope;
-                const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
-                const float half = g(this->OddMean[i]) - g(other);
-                h += half * half * halfScale;
               }
             }
-            this->DenoiserError[p] = e / 3.0f;
-            this->Variance[p] = v / 3.0f;
             this->HalfVariance[p] = h / 3.0f;
+            if (denoised)
+            {
+              this->DenoiserError[p] = e / 3.0f;
+              this->Variance[p] = v / 3.0f;
+            }
           }
         });
     });
-  if (even == 0)
-  {
-    if (denoised)
-    {
-      std::copy(denoised, denoised + 3 * n, shown);
-    }
-    return 0.0; // one frame: no variance yet
-  }
   const int box = VarianceBox(k);
-  Box(this->DenoiserError, this->Scratch, this->Width, this->Height, 3, threads);
-  Box(this->Variance, this->Scratch, this->Width, this->Height, box, threads);
   Box(this->HalfVariance, this->Scratch, this->Width, this->Height, std::max(box, 3), threads);
+  if (denoised)
+  {
+    Box(this->DenoiserError, this->Scratch, this->Width, this->Height, 3, threads);
+    Box(this->Variance, this->Scratch, this->Width, this->Height, box, threads);
+  }
 
   double sum = 0.0;
   for (std::size_t p = 0; p < n; ++p)
   {
-    float w = 1.0f; // Denoise off: the raw mean is shown
-    if (denoised)
+    if (!denoised)
     {
-      const float v = this->Variance[p];
-      const float e = std::max(this->DenoiserError[p] - v, 0.0f);
-      w = (k >= kMinimumBlendFrames && e + v > 0.0f) ? std::min(e / (e + v), 1.0f) : 0.0f;
-      for (int c = 0; c < 3; ++c)
-      {
-        const std::size_t i = 3 * p + c;
-        shown[i] = w * mean[i] + (1.0f - w) * denoised[i];
-      }
+      sum += this->HalfVariance[p]; // Denoise off: the raw mean is shown (w = 1)
+      continue;
     }
-    this->RawWeight[p] = w;
+    const float v = this->Variance[p];
+    const float e = std::max(this->DenoiserError[p] - v, 0.0f);
+    const bool blend = k >= kMinimumBlendFrames && e + v > 0.0f;
+    const float w = blend ? std::min(e / (e + v), 1.0f) : 0.0f;
+    for (int c = 0; c < 3; ++c)
+    {
+      const std::size_t i = 3 * p + c;
+      shown[i] = w * mean[i] + (1.0f - w) * denoised[i];
+    }
     sum += double(w) * w * this->HalfVariance[p] +
-      (denoised ? double(1.0f - w) * (1.0f - w) * this->DenoiserError[p] : 0.0);
+      double(1.0f - w) * (1.0f - w) * this->DenoiserError[p];
   }
   const double mse = sum / static_cast<double>(n);
   return mse > 0.0 ? -10.0 * std::log10(mse) : 100.0; // identical halves: an empty view

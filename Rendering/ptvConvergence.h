@@ -45,16 +45,13 @@ public:
    */
   double Combine(const float* mean, const float* denoised, int count, float* shown, int threads);
 
-  /// The raw weight w of the last Combine (1 float per pixel).
-  const std::vector<float>& GetRawWeight() const { return this->RawWeight; }
-
 private:
   int Width = 0;
   int Height = 0;
   int Count = 0;
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
-  std::vector<float> DenoiserError, Variance, HalfVariance, RawWeight, Scratch;
+  std::vector<float> DenoiserError, Variance, HalfVariance, Scratch;
 };
 }
 
