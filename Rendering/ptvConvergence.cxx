@@ -181,7 +181,7 @@ double Convergence::Combine(
   const int k = count;
   const int odd = (k + 1) / 2;
   const int even = k - odd;
-  const float halfScale = static_cast<float>(odd) * static_cast<float>(even) / (float(k) * float(k));
+  const float halfScale = float(odd) * float(even) / (float(k) * float(k));
   const ToneTable& g = Tone();
   WithThreads(threads,
     [&]()
