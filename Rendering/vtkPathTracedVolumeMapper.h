@@ -189,8 +189,8 @@ public:
 
   ///@{
   /**
-   * Denoise the accumulated image with the neural bilateral grid and show the result. Default
-   * on. Without a usable model the denoiser uses a fixed guide and warns once.
+   * Denoise the accumulated image with the neural bilateral grid and show the result (faded
+   * into the raw mean as samples accumulate: pass "Converged"). Default on. Without a usable model the denoiser uses a fixed guide and warns once.
    */
   vtkSetMacro(Denoise, bool);
   vtkGetMacro(Denoise, bool);
@@ -240,8 +240,8 @@ public:
 
   ///@{
   /**
-   * Pass shown in the render window; empty (default) shows "Denoised" when Denoise is on, else
-   * "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
+   * Pass shown in the render window; empty (default) shows "Converged" (the denoised image faded
+   * into the raw mean) when Denoise is on, else "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
    * depths to the range of hits (near = bright).
    */
   vtkSetStringMacro(DisplayPass);
@@ -264,7 +264,7 @@ public:
   /**
    * Copy every available pass of the current accumulation into @a output: one float point-data
    * array per pass, named after it, on the viewport's pixels (as GetPass()), "Radiance" the
-   * active scalars. The denoiser's passes (Denoised, Guides, BlendWeights) are included when
+   * active scalars. The denoiser's passes (Denoised, Guides, BlendWeights, Converged) are included when
    * the last frame was denoised. Ready for vtkPTVEXRPassWriter. Returns false with an error
    * before the first render.
    */

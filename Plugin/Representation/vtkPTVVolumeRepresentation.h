@@ -81,7 +81,7 @@ public:
   ///@{
   /**
    * Pass shown in the view: a name from vtkPathTracedVolumeMapper::GetPassName(), or "Default"
-   * (or empty / nullptr) for the mapper's default (Denoised when Denoise is on, else Radiance).
+   * (or empty / nullptr) for the mapper's default (Converged when Denoise is on, else Radiance).
    */
   void SetDisplayPass(const char* name);
   const char* GetDisplayPass();
