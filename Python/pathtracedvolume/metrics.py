@@ -1,10 +1,12 @@
 """The project's image metrics, defined once (docs/measuring.md): the tone map
 ``clip(max(0, x)^(1/2.2), 0, 1)`` and PSNR / SSIM of tone-mapped images against a tone-mapped
-reference (scikit-image, data range 1). Plain NumPy; scikit-image is imported when used.
+reference (scikit-image, data range 1); temporal PSNR and flicker of tone-mapped frame
+sequences. Plain NumPy; scikit-image is imported when used.
 """
 from __future__ import annotations
 
-from typing import Tuple
+import math
+from typing import List, Sequence, Tuple
 
 import numpy as np
 
@@ -33,3 +35,17 @@ def quality(reference: np.ndarray, image: np.ndarray) -> Tuple[float, float]:
     ssim = (float(structural_similarity(ref, img, data_range=1.0, channel_axis=2, win_size=win))
             if win >= 3 else float("nan"))
     return psnr(image, reference), ssim
+
+
+def tpsnr(frames: Sequence[np.ndarray]) -> List[float]:
+    """PSNR between consecutive tone-mapped frames (identical frames count as 100 dB)."""
+    out = []
+    for a, b in zip(frames[:-1], frames[1:]):
+        mse = float(np.mean((np.asarray(a, np.float64) - b) ** 2))
+        out.append(100.0 if mse == 0 else 10 * math.log10(1.0 / mse))
+    return out
+
+
+def flicker(frames: Sequence[np.ndarray]) -> float:
+    """Per-pixel standard deviation over the tone-mapped frames, averaged over the image."""
+    return float(np.mean(np.std(np.stack(frames), axis=0)))

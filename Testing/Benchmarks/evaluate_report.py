@@ -46,6 +46,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402
 from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
+from pathtracedvolume.metrics import flicker, tpsnr  # noqa: E402
 
 from tqdm import tqdm  # noqa: E402
 
@@ -141,20 +142,6 @@ def write_json(path: Path, data: Any) -> None:
 
 def median(values: Iterable[float]) -> float:
     return float(statistics.median(list(values)))
-
-
-def tpsnr(frames: Sequence[np.ndarray]) -> List[float]:
-    """PSNR between consecutive tone-mapped frames (identical frames count as 100 dB)."""
-    out = []
-    for a, b in zip(frames[:-1], frames[1:]):
-        mse = float(np.mean((a - b) ** 2))
-        out.append(100.0 if mse == 0 else 10 * math.log10(1.0 / mse))
-    return out
-
-
-def flicker(frames: Sequence[np.ndarray]) -> float:
-    """Per-pixel standard deviation over the tone-mapped frames, averaged over the image."""
-    return float(np.mean(np.std(np.stack(frames), axis=0)))
 
 
 def fmt(x: Any, digits: int = 2) -> str:

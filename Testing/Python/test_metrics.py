@@ -1,4 +1,5 @@
-"""pathtracedvolume.metrics: the one definition of the tone map and PSNR/SSIM (docs/measuring.md)."""
+"""pathtracedvolume.metrics: the one definition of the tone map, PSNR/SSIM and the temporal
+metrics (docs/measuring.md)."""
 import math
 
 import numpy as np
@@ -30,3 +31,11 @@ def test_quality_window_fits_small_images() -> None:
     assert math.isnan(metrics.quality(tiny, tiny)[1])  # no 3x3 window fits
     five = np.full((5, 5, 3), 0.5, np.float32)
     assert metrics.quality(five, five * 0.9)[1] < 1.0  # a 5x5 window
+
+
+def test_tpsnr_and_flicker_of_frame_sequences() -> None:
+    a = np.full((4, 4, 3), 0.5, np.float32)
+    b = a + np.float32(0.1)  # every pixel 0.1 apart: PSNR 20 dB, std 0.05 over the pair
+    assert np.allclose(metrics.tpsnr([a, b, b]), [20.0, 100.0], atol=1e-4)
+    assert math.isclose(metrics.flicker([a, b]), 0.05, rel_tol=1e-5)
+    assert metrics.flicker([a, a, a]) == 0.0
