@@ -133,6 +133,7 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count)
     this->Width = width;
     this->Height = height;
     this->SecondMoment.resize(n);
+    this->Mean.assign(frame, frame + n);
     this->OddMean.assign(frame, frame + n);
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -144,6 +145,7 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count)
   const float w = 1.0f / static_cast<float>(count);
   for (std::size_t i = 0; i < n; ++i)
   {
+    this->Mean[i] += (frame[i] - this->Mean[i]) * w; // as PassBuffers::Accumulate: same bits
     this->SecondMoment[i] += (frame[i] * frame[i] - this->SecondMoment[i]) * w;
   }
   if (count % 2 == 1)
@@ -158,9 +160,9 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count)
 }
 
 //------------------------------------------------------------------------------
-double Convergence::Combine(
-  const float* mean, const float* denoised, int count, float* shown, int threads)
+double Convergence::Combine(const float* denoised, int count, float* shown, int threads)
 {
+  const float* mean = this->Mean.data();
   const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
   if (count != this->Count || n == 0)
   {

@@ -3,9 +3,11 @@
  * @brief Private: how far the accumulation is from converged, and the image that converges --
  *        the denoised image faded into the raw running mean by their estimated errors.
  *
- * Kept per pixel while frames accumulate: the mean of the squared frame radiance (the variance
- * of the running mean) and the mean of the odd-numbered frames (with the even ones: two
- * independent half-accumulations). Errors are measured where the project measures quality,
+ * Kept per pixel while frames of one view accumulate: their mean M, the mean of the squared frame
+ * radiance (the variance of M) and the mean of the odd-numbered frames (with the even ones: two
+ * independent half-accumulations). M is the accumulated Radiance pass, bit for bit, until the
+ * camera moves; after that the pass also holds reprojected history (ptvReprojection), whose
+ * error these statistics cannot see, so the blend and the estimate use M, the view's own frames. Errors are measured where the project measures quality,
  * after the tone map g(x) = x^(1/2.2) (docs/measuring.md):
  *  - raw mean M, variance V = g'(M)^2 (E[f^2] - M^2) / (k - 1) (delta method), box-filtered
  *    with a radius that shrinks as frames add degrees of freedom;
@@ -38,17 +40,18 @@ public:
   void AddFrame(const float* frame, int width, int height, int count);
 
   /**
-   * The image to show from the running mean @a mean of @a count frames and its denoised
-   * @a denoised (nullptr: Denoise off, the mean is shown) into @a shown (3 floats per pixel;
-   * may be nullptr when @a denoised is). Returns the estimated PSNR in dB of what is shown
-   * (tone-mapped, like docs/measuring.md), or 0 when not known yet (fewer than 2 frames).
+   * The image to show from the mean of the @a count frames added and @a denoised (nullptr:
+   * Denoise off, the accumulation is shown) into @a shown (3 floats per pixel; may be nullptr
+   * when @a denoised is). Returns the estimated PSNR in dB of the mean, or of what is shown with
+   * a denoiser (tone-mapped, like docs/measuring.md); 0 when not known yet (fewer than 2 frames).
    */
-  double Combine(const float* mean, const float* denoised, int count, float* shown, int threads);
+  double Combine(const float* denoised, int count, float* shown, int threads);
 
 private:
   int Width = 0;
   int Height = 0;
   int Count = 0;
+  std::vector<float> Mean;         ///< mean of the frames, 3 per pixel
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
   std::vector<float> DenoiserError, Variance, HalfVariance, Scratch;

@@ -44,9 +44,13 @@ bool FrameLoop::ReportOnce(const std::string& error, const char* fixedPrefix)
 void FrameLoop::ResetAccumulation()
 {
   this->AccumulatedFrames = 0;
+  this->SampleFrames = 0;
+  this->LastViewFrames = 0;
   this->StillConverged = false;
   this->EstimatedQuality = 0.0;
   this->Signature.Clear();
+  this->History.Reset();
+  this->ViewMoved = false;
 }
 
 //------------------------------------------------------------------------------
@@ -57,6 +61,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   this->LastRenderFrames = 0;
   this->LastTraceTime = 0.0;
   this->LastDenoiseTime = 0.0;
+  this->LastReprojectionTime = 0.0;
   auto fail = [this, &messages](const std::string& error)
   {
     if (this->ReportOnce(error))
@@ -108,8 +113,19 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return;
   }
   this->LastError.clear();
-  if (!signature.Matches(this->Signature)) // compared with the frame that started the
-  {                                        // accumulation, so slow drifts cannot pile up
+  // Compared with the frame that started the accumulation, so slow drifts cannot pile up.
+  const FrameSignature::Change change = signature.Compare(this->Signature);
+  if (change == FrameSignature::Change::View && request.TemporalReprojection &&
+    this->AccumulatedFrames > 0)
+  {
+    this->AccumulatedFrames = 0; // a new view: its own running mean, on top of the history
+    this->StillConverged = false;
+    this->EstimatedQuality = 0.0;
+    this->ViewMoved = true;
+    this->Signature = std::move(signature);
+  }
+  else if (change != FrameSignature::Change::None)
+  {
     this->ResetAccumulation();
     this->Signature = std::move(signature);
   }
@@ -141,7 +157,7 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   this->Frame.Resize(width, height);
   this->Accumulated.Resize(width, height);
   const int samples = request.Scene.SamplesPerFrame;
-  const unsigned int firstSample = static_cast<unsigned int>(this->AccumulatedFrames) * samples;
+  const unsigned int firstSample = this->SampleFrames * static_cast<unsigned int>(samples);
   std::string problem;
   this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(), firstSample, samples,
     request.Threads, UsePortableKernels(false), request.Backend, this->Frame, problem);
@@ -150,10 +166,32 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     messages.emplace_back(true, problem);
   }
   this->BackendProblem = problem;
+  ++this->SampleFrames;
   ++this->AccumulatedFrames;
   ++this->LastRenderFrames;
   this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames);
-  this->Accumulated.Accumulate(this->Frame, this->AccumulatedFrames);
+  if (this->ViewMoved)
+  {
+    const double reprojectStart = Now();
+    this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
+      request.MaximumHistory, this->LastViewFrames, this->Accumulated,
+      this->Frame, request.Threads);
+    this->ViewMoved = false;
+    this->LastReprojectionTime += 1000.0 * (Now() - reprojectStart);
+  }
+  else if (this->History.HasHistory())
+  {
+    this->History.Accumulate(
+      this->Accumulated, this->Frame, this->AccumulatedFrames, request.Threads);
+  }
+  else
+  {
+    this->Accumulated.Accumulate(this->Frame, this->AccumulatedFrames);
+  }
+  this->AccumulatedCamera = this->Params.Camera;
+  this->LastViewFrames = this->AccumulatedFrames;
+  this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
+    this->AccumulatedFrames);
   this->CombinedValid = false;
   this->LastTraceTime += 1000.0 * (Now() - start);
   this->LastRenderTraced = true;
@@ -231,8 +269,8 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
     return;
   }
   PassBuffers& acc = this->Accumulated;
-  this->EstimatedQuality = this->Converging.Combine(acc.Data(PassRadiance),
-    denoised ? acc.Data(PassDenoised) : nullptr, this->AccumulatedFrames,
+  this->EstimatedQuality = this->Converging.Combine(denoised ? acc.Data(PassDenoised) : nullptr,
+    this->AccumulatedFrames,
     denoised ? acc.Data(PassConverged) : nullptr, request.Threads);
   this->CombinedValid = true;
   this->CombinedWithDenoiser = denoised;
@@ -302,7 +340,7 @@ int FrameLoop::ShownPass(const FrameRequest& request, FrameMessages& messages)
   {
     problem = "unknown DisplayPass '" + request.DisplayPass + "'; showing Radiance";
   }
-  else if (shown >= kTracedPassCount && !this->DenoisedValid)
+  else if (IsDenoiserPass(shown) && !this->DenoisedValid)
   {
     problem = "DisplayPass '" + request.DisplayPass + "' needs Denoise on";
   }

@@ -8,8 +8,9 @@
  *     kernel's plain structs and a signature of everything that changes the image;
  *  2. ptvTracerRunner -- the frame is traced on the CUDA device or the CPU (ptvCpuTracer runs
  *     Kernels/ptvIntegrator.h per pixel);
- *  3. ptvPassBuffers -- the frame joins the running mean of the named passes (a changed signature
- *     restarts it);
+ *  3. ptvPassBuffers -- the frame joins the running mean of the named passes (a changed scene
+ *     restarts it); ptvReprojection -- when only the view moved, the mean of the previous view
+ *     is carried into the new one first (per-pixel history, capped at MaximumHistory);
  *  4. ptvDenoiser -- with Denoise on, the accumulated passes are denoised;
  *     ptvConvergence -- the denoised image fades into the raw mean as the samples make it
  *     unnecessary, and the error of what is shown is estimated (a still render repeats 2.-4.
@@ -27,6 +28,7 @@
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
 #include "ptvPassBuffers.h"
+#include "ptvReprojection.h"
 #include "ptvShownImage.h"
 #include "ptvTracerRunner.h"
 
@@ -48,6 +50,9 @@ struct FrameRequest
 {
   FrameSettings Scene;               ///< what reaches the kernel
   int MaximumAccumulatedFrames = 1024;
+  /// When only the view changed, reproject the accumulation instead of dropping it.
+  bool TemporalReprojection = true;
+  int MaximumHistory = 8; ///< frames of reprojected history a pixel keeps at most
   int Threads = 0;                   ///< <= 0: every core
   int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
   bool Denoise = true;
@@ -77,7 +82,7 @@ public:
   void Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image, vtkDataArray* scalars,
     bool cellScalars, const FrameRequest& request, FrameMessages& messages);
 
-  /// Drop the accumulation; the next frame starts again from sample 0.
+  /// Drop the accumulation and its history; the next frame starts again from sample 0.
   void ResetAccumulation();
 
   /**
@@ -87,7 +92,12 @@ public:
    */
   bool ReportOnce(const std::string& error, const char* fixedPrefix = "");
 
+  /// Frames traced since the view last changed (the still view's running mean).
   int GetAccumulatedFrames() const { return this->AccumulatedFrames; }
+  /// Fraction of the volume's pixels that kept a history when the view last moved (0: none).
+  double GetReprojectionReuse() const { return this->History.GetReusedFraction(); }
+  /// Milliseconds the last Render spent reprojecting (0 when the view did not move).
+  double GetLastReprojectionTime() const { return this->LastReprojectionTime; }
   /// Frames traced by the last Render (0, 1, or more for a still render).
   int GetLastRenderFrames() const { return this->LastRenderFrames; }
   /// Estimated PSNR (dB, tone-mapped) of what is shown; 0 before 2 frames.
@@ -117,10 +127,13 @@ private:
 
   FrameInputs Inputs;
   TraceParams Params{};
-  FrameSignature Signature; ///< of the frame that started the accumulation
+  FrameSignature Signature; ///< of the frame that started the accumulation (or the view)
   TracerRunner Tracer;
   PassBuffers Frame;
   PassBuffers Accumulated;
+  Reprojection History;
+  CameraRays AccumulatedCamera{}; ///< the camera of the accumulated passes
+  bool ViewMoved = false;         ///< reproject the accumulation into the next traced frame
   Denoiser Denoising;
   Convergence Converging;
   ShownImage Shown;
@@ -128,6 +141,9 @@ private:
   std::vector<float> ZBuffer;
 
   int AccumulatedFrames = 0;
+  unsigned int SampleFrames = 0; ///< frames since the last reset: the sample index
+  int LastViewFrames = 0;        ///< AccumulatedFrames after the last trace
+  double LastReprojectionTime = 0.0;
   int LastRenderFrames = 0;
   double EstimatedQuality = 0.0;
   bool StillConverged = false;

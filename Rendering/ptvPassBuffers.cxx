@@ -21,6 +21,7 @@ const PassInfo kPasses[PassCount] = {
   { "Guides", 3 },
   { "BlendWeights", 2 },
   { "Converged", 3 },
+  { "HistoryLength", 1 },
 };
 
 void Put3(std::vector<float>& b, int pixel, const Vec3& v)

@@ -28,11 +28,18 @@ enum PassId
   PassGuides,       ///< its guides, one level per component (unused levels 0)
   PassBlendWeights, ///< its blend weights (unused 0)
   PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
+  PassHistoryLength, ///< frames in each pixel's accumulated mean (ptvReprojection; capped history)
   PassCount
 };
 
 /// Passes written by the tracer and accumulated; the others are derived from them.
 constexpr int kTracedPassCount = PassDenoised;
+
+/// Whether @a pass is made by the denoiser (only available with Denoise on).
+inline bool IsDenoiserPass(int pass)
+{
+  return pass >= PassDenoised && pass <= PassConverged;
+}
 
 struct PassInfo
 {
@@ -79,6 +86,9 @@ public:
    * overwrites every pixel of them.
    */
   void Accumulate(PassBuffers& frame, int count);
+
+  /// Exchange the buffers of @a pass with @a other's (same size).
+  void Swap(int pass, PassBuffers& other) { this->Buffers[pass].swap(other.Buffers[pass]); }
 
 private:
   int Width = 0;

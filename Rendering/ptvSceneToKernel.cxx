@@ -217,7 +217,7 @@ void SetCamera(vtkRenderer* ren, int width, int height, CameraRays& camera,
     cam->GetFocalPoint()[2], cam->GetViewUp()[0], cam->GetViewUp()[1], cam->GetViewUp()[2],
     cam->GetViewAngle(), cam->GetParallelScale(), cam->GetParallelProjection() ? 1.0 : 0.0,
     cam->GetWindowCenter()[0], cam->GetWindowCenter()[1] };
-  signature.AddApproximate(cameraKey, 14);
+  signature.AddView(cameraKey, 14);
   camera.Eye = ToVec3(cam->GetPosition());
   camera.Parallel = cam->GetParallelProjection() ? 1 : 0;
   camera.Width = width;
@@ -287,8 +287,19 @@ void SetLighting(vtkRenderer* ren, const FrameSettings& settings, const double b
   p.KeyLight.Direction = ToVec3(lightDir);
   p.KeyLight.Positional = positional;
   p.KeyLight.Radiance = ToVec3(lightRad);
-  signature.AddApproximate(lightPos, 3);
-  signature.AddApproximate(lightDir, 3);
+  // A light that follows the camera (VTK's camera lights, ParaView's light kit, the default
+  // light) is part of the view: it moves when the camera does, and the history it lit fades
+  // out (ptvReprojection); a scene light's change restarts the accumulation.
+  if (!chosen || chosen->LightTypeIsCameraLight())
+  {
+    signature.AddView(lightPos, 3);
+    signature.AddView(lightDir, 3);
+  }
+  else
+  {
+    signature.AddApproximate(lightPos, 3);
+    signature.AddApproximate(lightDir, 3);
+  }
   signature.AddExact(lightRad, 3);
 
   double env[3];
@@ -338,7 +349,7 @@ bool SetGeometryLimits(const std::vector<float>& zbuffer, const CameraRays& came
         maxDistance[i] = std::max(0.0f, Dot(hit - o, d));
       }
     }
-    signature.AddExact(&hash, 1);
+    signature.AddViewExact(&hash, 1); // moves with the camera
   }
   if (!anyGeometry)
   {

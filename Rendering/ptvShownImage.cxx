@@ -21,7 +21,12 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
   const int comps = GetPassInfo(pass).Components;
   const float* data = acc.Data(pass);
   float lo = std::numeric_limits<float>::max(), hi = -lo;
-  if (comps == 1 && pass != PassAlpha)
+  if (pass == PassHistoryLength)
+  {
+    lo = 0.0f; // frames / the most frames: grey levels
+    hi = std::max(1.0f, *std::max_element(data, data + n));
+  }
+  else if (comps == 1 && pass != PassAlpha)
   {
     for (int i = 0; i < n; ++i)
     {
@@ -38,6 +43,10 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
     if (pass == PassAlpha)
     {
       c[0] = c[1] = c[2] = data[i];
+    }
+    else if (pass == PassHistoryLength)
+    {
+      c[0] = c[1] = c[2] = data[i] / hi;
     }
     else if (comps == 1)
     {

@@ -258,7 +258,7 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
     vtkErrorMacro(<< "Pass '" << name << "' is not available before the first render.");
     return false;
   }
-  if (pass >= ptv::kTracedPassCount && !this->Internals->Loop.GetDenoisedValid())
+  if (ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid())
   {
     vtkErrorMacro(<< "Pass '" << name << "' is produced by the denoiser; turn Denoise on and "
                   << "render first.");
@@ -301,7 +301,7 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   output->SetSpacing(1, 1, 1);
   for (int pass = 0; pass < ptv::PassCount; ++pass)
   {
-    if (pass >= ptv::kTracedPassCount && !this->Internals->Loop.GetDenoisedValid())
+    if (ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid())
     {
       continue;
     }
@@ -375,6 +375,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     scene.EnvironmentIntensity = this->EnvironmentIntensity;
     scene.EmptySpaceSkipping = this->EmptySpaceSkipping;
     request.MaximumAccumulatedFrames = this->MaximumAccumulatedFrames;
+    request.TemporalReprojection = this->TemporalReprojection;
+    request.MaximumHistory = this->MaximumHistory;
     request.Threads = this->NumberOfThreads;
     request.Backend = this->Backend;
     request.Denoise = this->Denoise;
@@ -424,6 +426,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->StillConverged = loop.GetStillConverged();
   this->LastTraceTime = loop.GetLastTraceTime();
   this->LastDenoiseTime = loop.GetLastDenoiseTime();
+  this->ReprojectionReuse = loop.GetReprojectionReuse();
+  this->LastReprojectionTime = loop.GetLastReprojectionTime();
 }
 
 //------------------------------------------------------------------------------
@@ -439,6 +443,8 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SamplesPerFrame: " << this->SamplesPerFrame << "\n";
   os << indent << "MaximumAccumulatedFrames: " << this->MaximumAccumulatedFrames << "\n";
+  os << indent << "TemporalReprojection: " << this->TemporalReprojection << "\n";
+  os << indent << "MaximumHistory: " << this->MaximumHistory << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";

@@ -13,17 +13,23 @@
  * One frame, top-down (ptvFrameLoop; this class is its VTK face): frame inputs (ptvFrameInputs)
  * -> the per-pixel estimator of Kernels/ptvIntegrator.h on the CPU or CUDA (ptvTracerRunner) ->
  * the running mean of named passes (ptvPassBuffers) -> the denoiser (ptvDenoiser) -> the shown
- * pass as colour and window depth (ptvShownImage) drawn into the window (ptvDisplay). While camera, volume, transfer functions, light, viewport and opaque geometry stay
- * unchanged, frames accumulate as a running mean up to MaximumAccumulatedFrames; any change
- * resets. Random numbers depend on (pixel, frame, Seed) only, so images are identical across
- * runs and thread counts.
+ * pass as colour and window depth (ptvShownImage) drawn into the window (ptvDisplay). While
+ * camera, volume, transfer functions, light, viewport and opaque geometry stay unchanged,
+ * frames accumulate as a running mean up to MaximumAccumulatedFrames. A change of the volume,
+ * the transfer functions, a scene light, the settings or the viewport drops every sample; a
+ * camera move alone (with the lights that follow the camera) reprojects them into the new view
+ * (TemporalReprojection). Random numbers depend on (pixel, frame since the last drop, Seed)
+ * only, so images are identical across runs and thread counts, and for a given camera path.
  *
  * Passes (GetPassName): "Radiance" (premultiplied HDR RGB), "Alpha", "Albedo", "Depth",
  * "Position", "Normal" (first non-transparent sample), "ScatterDepth", "ScatterPosition",
  * "ScatterNormal" (the scattering event). Depth is the world distance from the eye; misses have
  * depth = camera far distance, position 0, normal 0. With Denoise on, the denoiser (see
  * vtkPTVDenoiser) adds "Denoised" (shown by default), "Guides" and "BlendWeights", computed from
- * the accumulated passes after each traced frame.
+ * the accumulated passes after each traced frame, and "Converged" (the denoised image faded into
+ * the raw mean as samples accumulate). "HistoryLength" is the number of frames in each pixel's
+ * accumulated mean (after a camera move: reprojected history, at most MaximumHistory, plus the
+ * frames of the new view).
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h
@@ -59,6 +65,33 @@ public:
   vtkSetClampMacro(MaximumAccumulatedFrames, int, 1, 1000000);
   vtkGetMacro(MaximumAccumulatedFrames, int);
   ///@}
+
+  ///@{
+  /**
+   * Temporal reuse while the camera moves. On (default), a change of the camera alone (and of
+   * the lights that follow it: camera lights, the default light) carries the accumulated passes
+   * into the new view instead of dropping them: each pixel finds what it sees in the previous
+   * image through its first event's world position, keeps only neighbours that saw the same
+   * surface (depth, normal and albedo agree; disocclusions and silhouettes start afresh), and
+   * its Radiance and Alpha (the other passes restart with the view) join that history as
+   * an exponential moving average of at most
+   * MaximumHistory frames (default 8, range [1, 1000000]): more history is smoother and less
+   * noisy, but lags behind lighting that moves with the camera. A still camera accumulates
+   * exactly as with it off. Off: every camera change starts again from one frame.
+   */
+  vtkSetMacro(TemporalReprojection, bool);
+  vtkGetMacro(TemporalReprojection, bool);
+  vtkBooleanMacro(TemporalReprojection, bool);
+  vtkSetClampMacro(MaximumHistory, int, 1, 1000000);
+  vtkGetMacro(MaximumHistory, int);
+  ///@}
+
+  /// Fraction of the pixels showing the volume that kept their history at the last camera
+  /// move (0 before one).
+  vtkGetMacro(ReprojectionReuse, double);
+
+  /// Milliseconds the last render spent reprojecting (0 when the camera did not move).
+  vtkGetMacro(LastReprojectionTime, double);
 
   ///@{
   /**
@@ -310,10 +343,11 @@ public:
   static const char* GetCudaStatus();
   ///@}
 
-  /// Frames averaged so far in the current accumulation (0 before the first render).
+  /// Frames averaged so far in the current view (0 before the first render); after a camera
+  /// move the passes also hold reprojected history (see the HistoryLength pass).
   vtkGetMacro(AccumulatedFrames, int);
 
-  /// Drop the accumulation; the next render starts again from frame 0.
+  /// Drop the accumulation and its history; the next render starts again from frame 0.
   void ResetAccumulation();
 
   /// Whether the last render traced a new frame (false once MaximumAccumulatedFrames is reached).
@@ -340,6 +374,8 @@ protected:
 
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;
+  bool TemporalReprojection = true;
+  int MaximumHistory = 8;
   bool ConvergeStillRenders = true;
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;
@@ -368,6 +404,8 @@ protected:
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;
+  double ReprojectionReuse = 0.0;
+  double LastReprojectionTime = 0.0;
 
 private:
   vtkPathTracedVolumeMapper(const vtkPathTracedVolumeMapper&) = delete;

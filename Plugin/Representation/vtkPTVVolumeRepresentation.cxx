@@ -140,6 +140,18 @@ void vtkPTVVolumeRepresentation::SetSamplesPerFrame(int value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetTemporalReprojection(bool value)
+{
+  this->GetPathTracedMapper()->SetTemporalReprojection(value);
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetMaximumHistory(int value)
+{
+  this->GetPathTracedMapper()->SetMaximumHistory(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetMaximumAccumulatedFrames(int value)
 {
   this->GetPathTracedMapper()->SetMaximumAccumulatedFrames(value);

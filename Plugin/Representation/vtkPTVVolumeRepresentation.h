@@ -63,6 +63,8 @@ public:
    */
   void SetSamplesPerFrame(int value);
   void SetMaximumAccumulatedFrames(int value);
+  void SetTemporalReprojection(bool value);
+  void SetMaximumHistory(int value);
   void SetSeed(int value);
   void SetScattering(bool value);
   void SetAmbientOcclusion(bool value);

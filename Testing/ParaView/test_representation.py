@@ -12,7 +12,8 @@ and ``PYTHONPATH`` (<build>/python) set, as ctest does.
    with Testing/Data/Baseline/ParaView_PathTracedVolume.png;
 2. every representation property is checked to take effect: DisplayPass and Denoise change the
    image without tracing; SamplesPerFrame=4 for one frame equals four 1-spp frames; renders stop
-   tracing at MaximumAccumulatedFrames and a camera change restarts at frame 1; progressive
+   tracing at MaximumAccumulatedFrames and a camera change restarts the view at frame 1 with
+   its reprojected history (TemporalReprojection, MaximumHistory; none when off); progressive
    refinement through the view's streaming passes (view.SMProxy.StreamingUpdate) converges and
    then stops; the lighting/sampling properties restart the accumulation and change the image;
    EmptySpaceSkipping and NumberOfThreads leave it identical; the information-only properties
@@ -273,6 +274,23 @@ for _ in range(6):
 print("frames after each render:", counts, "last traced:", mapper().GetLastRenderTraced())
 check(counts == [1, 2, 3, 4, 5, 5, 5] and not mapper().GetLastRenderTraced(),
       "renders stop tracing at MaximumAccumulatedFrames=5")
+camera.Azimuth(1)
+Render(view)
+history = mapper_pass("HistoryLength")
+check(history.max() > 1 and mapper().GetReprojectionReuse() > 0.5,
+      "TemporalReprojection (default on) carries the history into the new view (%.0f frames, "
+      "%.2f of the volume's pixels)" % (history.max(), mapper().GetReprojectionReuse()))
+display.MaximumHistory = 2
+camera.Azimuth(-1)
+Render(view)
+check(mapper_pass("HistoryLength").max() == 3, "MaximumHistory=2 caps the history at 2 + 1")
+display.TemporalReprojection = 0
+camera.Azimuth(1)
+Render(view)
+check(mapper_pass("HistoryLength").max() == 1, "TemporalReprojection=0: a camera move restarts")
+display.TemporalReprojection = 1
+display.MaximumHistory = 8
+camera.Azimuth(-1)
 
 camera.Azimuth(-10)
 Render(view)
@@ -292,6 +310,9 @@ display.ProgressiveRefinement = 1
 camera.Azimuth(-10)
 
 # --- 2d. lighting/sampling properties: restart and change the image ---------------------------
+# Images compared bit for bit below are fresh accumulations: the camera move just before must
+# not hand its reprojected history to the reference.
+display.TemporalReprojection = 0
 display.Denoise = 1
 display.MaximumAccumulatedFrames = 4
 render_until_converged()
@@ -331,6 +352,7 @@ for name, value in [("EmptySpaceSkipping", 0), ("NumberOfThreads", 1)]:
     check(same is not None and np.array_equal(same, reference_radiance),
           "%s=%s leaves the image bit-identical" % (name, value))
     display.SetPropertyWithName(name, old)
+display.TemporalReprojection = 1
 
 # --- 2d'. cropping and blend mode: ParaView's own volume properties reach the mapper -----------
 display.Denoise = 0

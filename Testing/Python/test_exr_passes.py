@@ -45,6 +45,7 @@ CONVENTIONAL = {
     "Guides": ["Guides.R", "Guides.G", "Guides.B"],
     "BlendWeights": ["BlendWeights.0", "BlendWeights.1"],
     "Converged": ["Converged.R", "Converged.G", "Converged.B"],
+    "HistoryLength": ["HistoryLength.Y"],
 }
 
 

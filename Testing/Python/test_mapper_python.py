@@ -62,8 +62,8 @@ def test_passes_are_numpy_arrays() -> None:
     window.Render()
     names = [mapper.GetPassName(i) for i in range(mapper.GetNumberOfPasses())]
     assert names[:3] == ["Radiance", "Alpha", "Albedo"]
-    assert names[-4:] == ["Denoised", "Guides", "BlendWeights", "Converged"]
-    for name in names[:-4]:
+    assert names[-5:] == ["Denoised", "Guides", "BlendWeights", "Converged", "HistoryLength"]
+    for name in names[:-5] + ["HistoryLength"]:
         values = get_pass(mapper, name)
         assert values.dtype == np.float32
         assert values.shape in ((W * H,), (W * H, 3)), name

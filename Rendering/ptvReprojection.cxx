@@ -1,0 +1,429 @@
+#include "ptvReprojection.h"
+
+#include "ptvThreads.h"
+
+#include "vtkMatrix4x4.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numeric>
+
+namespace ptv
+{
+namespace
+{
+constexpr float kAlbedoDifference = 0.25f;
+constexpr float kToleranceScale = 3.0f;
+constexpr float kRelativeTolerance = 0.05f; ///< of the point's distance
+constexpr float kMinimumWeight = 1e-3f; ///< kept bilinear weight below which there is no history
+constexpr float kHitCoverage = 0.2f;    ///< a hit's history covers the surface at least this much
+constexpr float kMissCoverage = 0.9f;   ///< a miss's history covers the surface at most this much
+
+inline Vec3 Load3(const float* b, std::size_t i)
+{
+  return MakeVec3(b[3 * i], b[3 * i + 1], b[3 * i + 2]);
+}
+
+/// A camera's ray ends on its near and far planes, affine in the pixel index (x, y) (the ray
+/// through the pixel's centre: GenerateRay(x + 0.5, y + 0.5)), as VTK's projections are.
+struct RayPlanes
+{
+  Vec3 Near0, NearX, NearY, Far0, FarX, FarY;
+
+  explicit RayPlanes(const CameraRays& c)
+  {
+    auto at = [&c](float px, float py, float z)
+    {
+      return TransformProjective(
+        c.WorldFromNdc, 2.f * px / float(c.Width) - 1.f, 2.f * py / float(c.Height) - 1.f, z);
+    };
+    this->Near0 = at(0.5f, 0.5f, -1.f);
+    this->NearX = at(1.5f, 0.5f, -1.f) - this->Near0;
+    this->NearY = at(0.5f, 1.5f, -1.f) - this->Near0;
+    this->Far0 = at(0.5f, 0.5f, 1.f);
+    this->FarX = at(1.5f, 0.5f, 1.f) - this->Far0;
+    this->FarY = at(0.5f, 1.5f, 1.f) - this->Far0;
+  }
+  Vec3 Near(float x, float y) const { return this->Near0 + this->NearX * x + this->NearY * y; }
+  Vec3 Far(float x, float y) const { return this->Far0 + this->FarX * x + this->FarY * y; }
+};
+
+/// Everything one frame's reprojection reads, and the per-pixel step (file comment, 1.-4.).
+struct Reprojector
+{
+  const CameraRays& Prev;
+  const CameraRays& Cur;
+  RayPlanes PrevRays, CurRays;
+  float NdcFromWorld[16]; ///< the previous camera's projection * view
+  Vec3 PrevDirection;     ///< the previous camera's ray direction (parallel projection)
+  float FootprintAt0 = 0.f, FootprintPerT = 0.f; ///< pixel size at distance t: At0 + PerT t
+  float Step = 0.f;
+  float Cap = 1.f;
+  // previous accumulation
+  const float* PrevRadiance;
+  const float* PrevAlpha;
+  const float* PrevDepth;
+  const float* PrevPosition;
+  const float* PrevAlbedo;
+  const float* PrevCount;
+  // new frame
+  const float* Radiance;
+  const float* Alpha;
+  const float* Depth;
+  const float* Albedo;
+  const int* HitBegin; ///< per row: the first hit's x (width when none)
+  const int* HitEnd;   ///< per row: past the last hit's x (0 when none)
+  // output
+  float* OutRadiance;
+  float* OutAlpha;
+  float* OutCount;
+
+  Reprojector(const CameraRays& prev, const CameraRays& cur)
+    : Prev(prev)
+    , Cur(cur)
+    , PrevRays(prev)
+    , CurRays(cur)
+  {
+    double worldFromNdc[16], ndcFromWorld[16];
+    std::copy(prev.WorldFromNdc, prev.WorldFromNdc + 16, worldFromNdc);
+    vtkMatrix4x4::Invert(worldFromNdc, ndcFromWorld);
+    std::copy(ndcFromWorld, ndcFromWorld + 16, this->NdcFromWorld);
+    this->PrevDirection = Normalize(this->PrevRays.Far0 - this->PrevRays.Near0);
+    const float cx = 0.5f * float(cur.Width), cy = 0.5f * float(cur.Height);
+    const Vec3 d0 = Normalize(this->CurRays.Far(cx, cy) - this->CurRays.Near(cx, cy));
+    const Vec3 d1 = Normalize(this->CurRays.Far(cx + 1, cy) - this->CurRays.Near(cx + 1, cy));
+    this->FootprintAt0 = cur.Parallel ? Length(this->CurRays.NearX) : 0.f;
+    this->FootprintPerT = cur.Parallel ? 0.f : Length(d1 - d0);
+  }
+
+  /**
+   * The fraction c of previous pixel j that saw the surface at point @a p (@a distance from the
+   * previous camera), the rest seeing the background: its mean depth is c distance + (1 - c) far
+   * and its mean position c p (a miss stores 0), within @a tolerance. -1 when the pixel saw
+   * something else (a surface in front or behind, or at another place).
+   */
+  float Coverage(std::size_t j, Vec3 p, float distance, float tolerance) const
+  {
+    const float far = this->Prev.FarDistance;
+    if (!(distance < far))
+    {
+      return -1.f;
+    }
+    const float c = (far - this->PrevDepth[j]) / (far - distance);
+    if (!(c <= 1.f + tolerance / (far - distance)))
+    {
+      return -1.f; // a surface in front of the point
+    }
+    if (c < 0.05f)
+    {
+      return 0.f; // the background
+    }
+    const Vec3 off = Load3(this->PrevPosition, j) - p * c;
+    return LengthSquared(off) <= tolerance * tolerance ? std::min(c, 1.f) : -1.f;
+  }
+
+  /// Whether previous pixel j's albedo agrees with the new pixel's @a albedo (times the
+  /// pixel's coverage of the surface, as its mean is).
+  bool SameAlbedo(std::size_t j, Vec3 albedo) const
+  {
+    const Vec3 da = Load3(this->PrevAlbedo, j) - albedo;
+    return std::abs(da.x) <= kAlbedoDifference && std::abs(da.y) <= kAlbedoDifference &&
+      std::abs(da.z) <= kAlbedoDifference;
+  }
+
+  /// The nearest depth of the hits among pixel (x, y)'s eight neighbours (0: none).
+  float NeighbourDepth(int x, int y) const
+  {
+    bool near = false; // within a row's span of hits (most background is not: cheap)
+    for (int py = std::max(y - 1, 0); py <= std::min(y + 1, this->Cur.Height - 1); ++py)
+    {
+      near = near || (x + 1 >= this->HitBegin[py] && x - 1 < this->HitEnd[py]);
+    }
+    if (!near)
+    {
+      return 0.f;
+    }
+    float nearest = 0.f;
+    for (int dy = -1; dy <= 1; ++dy)
+    {
+      const int py = y + dy;
+      for (int dx = -1; dx <= 1; ++dx)
+      {
+        const int px = x + dx;
+        if (px < 0 || py < 0 || px >= this->Cur.Width || py >= this->Cur.Height)
+        {
+          continue;
+        }
+        const float d = this->Depth[std::size_t(py) * this->Cur.Width + px];
+        if (IsHit(d, this->Cur.FarDistance) && (nearest == 0.f || d < nearest))
+        {
+          nearest = d;
+        }
+      }
+    }
+    return nearest;
+  }
+
+  /// Pixel (x, y): 0 background, 1 no history, 2 kept its history.
+  int Pixel(int x, int y) const
+  {
+    const int width = this->Cur.Width, height = this->Cur.Height;
+    const std::size_t i = std::size_t(y) * width + x;
+    float depth = this->Depth[i];
+    const bool hit = IsHit(depth, this->Cur.FarDistance);
+    if (!hit)
+    {
+      depth = this->NeighbourDepth(x, y); // a miss beside a surface may partly cover it
+      if (depth == 0.f)
+      {
+        this->Fresh(i);
+        return 0;
+      }
+    }
+    const float fx = float(x), fy = float(y);
+    const Vec3 pNear = this->CurRays.Near(fx, fy);
+    const Vec3 p = (this->Cur.Parallel ? pNear : this->Cur.Eye) +
+      Normalize(this->CurRays.Far(fx, fy) - pNear) * depth;
+
+    const float* m = this->NdcFromWorld;
+    const float w = m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15];
+    float u = -2.f, v = -2.f;
+    if (w > 0.f)
+    {
+      const float invW = 1.f / w;
+      u = 0.5f * ((m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]) * invW + 1.f) * width - 0.5f;
+      v = 0.5f * ((m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7]) * invW + 1.f) * height - 0.5f;
+    }
+    if (!(u > -1.f && u < float(width) && v > -1.f && v < float(height)))
+    {
+      this->Fresh(i);
+      return 1;
+    }
+    const float distance = this->Prev.Parallel
+      ? Dot(p - this->PrevRays.Near(u, v), this->PrevDirection)
+      : Length(p - this->Prev.Eye);
+    const float tolerance =
+      kToleranceScale * (this->Step + this->FootprintAt0 + this->FootprintPerT * depth) +
+      kRelativeTolerance * depth;
+    const Vec3 albedo = Load3(this->Albedo, i);
+
+    // 2. the four pixels around the point
+    const int x0 = static_cast<int>(u + 1.f) - 1; // floor: u, v > -1 here (and no libm call)
+    const int y0 = static_cast<int>(v + 1.f) - 1;
+    const float tx = u - float(x0), ty = v - float(y0);
+    float weight[4];
+    std::size_t index[4];
+    float total = 0.f;
+    for (int k = 0; k < 4; ++k)
+    {
+      const int px = x0 + (k & 1), py = y0 + (k >> 1);
+      weight[k] = ((k & 1) ? tx : 1.f - tx) * ((k >> 1) ? ty : 1.f - ty);
+      index[k] = std::size_t(std::min(std::max(py, 0), height - 1)) * width +
+        std::size_t(std::min(std::max(px, 0), width - 1));
+      bool same = px >= 0 && py >= 0 && px < width && py < height;
+      if (same)
+      {
+        const float c = this->Coverage(index[k], p, distance, tolerance);
+        // A hit needs the surface over most of the pixel; a miss beside it, not all of it (a
+        // pixel covered before is a disocclusion: the background shows through now).
+        same = hit ? c >= kHitCoverage && this->SameAlbedo(index[k], albedo * c)
+                   : c >= 0.f && c <= kMissCoverage;
+      }
+      weight[k] = same ? weight[k] : 0.f;
+      total += weight[k];
+    }
+    if (!(total >= kMinimumWeight))
+    {
+      this->Fresh(i);
+      return 1;
+    }
+    const float norm = 1.f / total;
+    float count = 0.f;
+    for (int k = 0; k < 4; ++k)
+    {
+      count += weight[k] * this->PrevCount[index[k]];
+    }
+    count = std::min(count * norm, this->Cap);
+
+    // 3. Radiance and Alpha of the history
+    float h[4] = { 0.f, 0.f, 0.f, 0.f };
+    for (int k = 0; k < 4; ++k)
+    {
+      const float wk = weight[k] * norm;
+      const float* r = this->PrevRadiance + 3 * index[k];
+      h[0] += wk * r[0];
+      h[1] += wk * r[1];
+      h[2] += wk * r[2];
+      h[3] += wk * this->PrevAlpha[index[k]];
+    }
+    // 4. the new frame joins it
+    const float a = 1.f / (count + 1.f);
+    const float* f = this->Radiance + 3 * i;
+    float* out = this->OutRadiance + 3 * i;
+    for (int c = 0; c < 3; ++c)
+    {
+      out[c] = h[c] + (f[c] - h[c]) * a;
+    }
+    this->OutAlpha[i] = h[3] + (this->Alpha[i] - h[3]) * a;
+    this->OutCount[i] = count + 1.f;
+    return 2;
+  }
+
+  /// No history: the new frame alone.
+  void Fresh(std::size_t i) const
+  {
+    std::copy_n(this->Radiance + 3 * i, 3, this->OutRadiance + 3 * i);
+    this->OutAlpha[i] = this->Alpha[i];
+    this->OutCount[i] = 1.f;
+  }
+};
+}
+
+//------------------------------------------------------------------------------
+void Reprojection::Reproject(const CameraRays& previous, const CameraRays& current,
+  float stepWorld, int maximumHistory, int previousFrames, PassBuffers& accumulated,
+  PassBuffers& frame, int threads)
+{
+  const int width = current.Width;
+  const int height = current.Height;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (!this->HasHistory())
+  {
+    this->Counts.assign(n, static_cast<float>(std::max(previousFrames, 1)));
+  }
+  this->NewCounts.resize(n);
+  this->Scratch.Resize(width, height);
+
+  Reprojector r(previous, current);
+  r.Step = std::isfinite(stepWorld) ? std::max(stepWorld, 0.0f) : 0.0f;
+  r.Cap = static_cast<float>(std::max(maximumHistory, 1));
+  r.PrevRadiance = accumulated.Data(PassRadiance);
+  r.PrevAlpha = accumulated.Data(PassAlpha);
+  r.PrevDepth = accumulated.Data(PassDepth);
+  r.PrevPosition = accumulated.Data(PassPosition);
+  r.PrevAlbedo = accumulated.Data(PassAlbedo);
+  r.PrevCount = this->Counts.data();
+  r.Radiance = frame.Data(PassRadiance);
+  r.Alpha = frame.Data(PassAlpha);
+  r.Depth = frame.Data(PassDepth);
+  r.Albedo = frame.Data(PassAlbedo);
+  r.OutRadiance = this->Scratch.Data(PassRadiance);
+  r.OutAlpha = this->Scratch.Data(PassAlpha);
+  r.OutCount = this->NewCounts.data();
+
+  this->HitBegin.assign(static_cast<std::size_t>(height), width);
+  this->HitEnd.assign(static_cast<std::size_t>(height), 0);
+  r.HitBegin = this->HitBegin.data();
+  r.HitEnd = this->HitEnd.data();
+  std::vector<int> hitRows(static_cast<std::size_t>(height), 0);
+  std::vector<int> reusedRows(static_cast<std::size_t>(height), 0);
+  WithThreads(threads,
+    [&]()
+    {
+      vtkSMPTools::For(0, height, 32,
+        [&](int begin, int end)
+        {
+          for (int y = begin; y < end; ++y)
+          {
+            const float* depth = r.Depth + std::size_t(y) * width;
+            for (int x = 0; x < width; ++x)
+            {
+              if (IsHit(depth[x], current.FarDistance))
+              {
+                this->HitBegin[y] = std::min(this->HitBegin[y], x);
+                this->HitEnd[y] = x + 1;
+              }
+            }
+          }
+        });
+      vtkSMPTools::For(0, height, 8,
+        [&](int begin, int end)
+        {
+          for (int y = begin; y < end; ++y)
+          {
+            int hits = 0, reused = 0;
+            for (int x = 0; x < width; ++x)
+            {
+              const int kind = r.Pixel(x, y);
+              hits += kind > 0 ? 1 : 0;
+              reused += kind > 1 ? 1 : 0;
+            }
+            hitRows[y] = hits;
+            reusedRows[y] = reused;
+          }
+        });
+    });
+  accumulated.Swap(PassRadiance, this->Scratch);
+  accumulated.Swap(PassAlpha, this->Scratch);
+  for (int p = 0; p < kTracedPassCount; ++p)
+  {
+    if (p != PassRadiance && p != PassAlpha)
+    {
+      accumulated.Swap(p, frame); // the view's own first frame
+    }
+  }
+  this->Counts.swap(this->NewCounts);
+  const int hits = std::accumulate(hitRows.begin(), hitRows.end(), 0);
+  const int reused = std::accumulate(reusedRows.begin(), reusedRows.end(), 0);
+  this->Reused = hits ? static_cast<double>(reused) / static_cast<double>(hits) : 0.0;
+}
+
+//------------------------------------------------------------------------------
+void Reprojection::Accumulate(
+  PassBuffers& accumulated, const PassBuffers& frame, int frames, int threads)
+{
+  const std::size_t n = this->Counts.size();
+  const float w = 1.0f / static_cast<float>(std::max(frames, 1));
+  WithThreads(threads,
+    [&]()
+    {
+      vtkSMPTools::For(std::size_t(0), n, std::size_t(4096),
+        [&](std::size_t begin, std::size_t end)
+        {
+          float* radiance = accumulated.Data(PassRadiance);
+          float* alpha = accumulated.Data(PassAlpha);
+          const float* fRadiance = frame.Data(PassRadiance);
+          const float* fAlpha = frame.Data(PassAlpha);
+          for (std::size_t i = begin; i < end; ++i)
+          {
+            const float a = 1.0f / (this->Counts[i] + 1.0f);
+            for (int c = 0; c < 3; ++c)
+            {
+              radiance[3 * i + c] += (fRadiance[3 * i + c] - radiance[3 * i + c]) * a;
+            }
+            alpha[i] += (fAlpha[i] - alpha[i]) * a;
+            this->Counts[i] += 1.0f;
+          }
+          for (int p = 0; p < kTracedPassCount; ++p)
+          {
+            if (p == PassRadiance || p == PassAlpha)
+            {
+              continue;
+            }
+            const std::size_t c = static_cast<std::size_t>(GetPassInfo(p).Components);
+            float* acc = accumulated.Data(p);
+            const float* in = frame.Data(p);
+            for (std::size_t k = c * begin; k < c * end; ++k)
+            {
+              acc[k] += (in[k] - acc[k]) * w;
+            }
+          }
+        });
+    });
+}
+
+//------------------------------------------------------------------------------
+void Reprojection::WriteCounts(float* out, int pixels, int frames) const
+{
+  if (this->HasHistory() && this->Counts.size() == static_cast<std::size_t>(pixels))
+  {
+    std::copy(this->Counts.begin(), this->Counts.end(), out);
+  }
+  else
+  {
+    std::fill(out, out + pixels, static_cast<float>(frames));
+  }
+}
+}
