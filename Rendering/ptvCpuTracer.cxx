@@ -3,7 +3,7 @@
 #include "ptvPassBuffers.h"
 #include "ptvThreads.h"
 
-#include <hwy/targets.h>
+#include "ptvKernelDispatch.h"
 
 namespace ptv
 {
@@ -42,12 +42,11 @@ inline void TraceTiles(const TraceParams& params, unsigned int firstSample, int 
   }
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define PTV_TRACER_HAS_AVX2 1
-// x86-64-v3 (AVX2, FMA, BMI1/2, F16C, LZCNT, MOVBE): the set Highway calls HWY_AVX2. The
-// estimator is scalar code; this build gains from three-operand VEX forms, FMA contraction,
-// roundss for floor/ceil and BMI address arithmetic (benchmark_tracer.py prints both builds).
-__attribute__((target("avx2,fma,bmi,bmi2,f16c,lzcnt,movbe,popcnt"), flatten)) void
+#ifdef PTV_HAS_AVX2_BUILD
+// The estimator is scalar code; the x86-64-v3 build gains from three-operand VEX forms, FMA
+// contraction, roundss for floor/ceil and BMI address arithmetic (benchmark_tracer.py prints
+// both builds).
+PTV_AVX2_TARGET __attribute__((flatten)) void
 TraceTilesAvx2(const TraceParams& params, unsigned int firstSample, int samples, vtkIdType t0,
   vtkIdType t1, PassBuffers& out)
 {
@@ -64,18 +63,9 @@ __attribute__((flatten)) void TraceTilesBaseline(const TraceParams& params,
 using TilesFunction = void (*)(
   const TraceParams&, unsigned int, int, vtkIdType, vtkIdType, PassBuffers&);
 
-bool CpuHasAvx2()
-{
-#ifdef PTV_TRACER_HAS_AVX2
-  return (hwy::SupportedTargets() & HWY_AVX2) != 0;
-#else
-  return false;
-#endif
-}
-
 TilesFunction SelectTiles(bool portable)
 {
-#ifdef PTV_TRACER_HAS_AVX2
+#ifdef PTV_HAS_AVX2_BUILD
   if (!portable && CpuHasAvx2())
   {
     return &TraceTilesAvx2;

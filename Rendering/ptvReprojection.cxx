@@ -1,5 +1,6 @@
 #include "ptvReprojection.h"
 
+#include "ptvKernelDispatch.h"
 #include "ptvThreads.h"
 
 #include "vtkMatrix4x4.h"
@@ -99,20 +100,16 @@ struct Reprojector
   }
 
   /**
-   * The fraction c of previous pixel j that saw the surface at point @a p (@a distance from the
-   * previous camera), the rest seeing the background: its mean depth is c distance + (1 - c) far
-   * and its mean position c p (a miss stores 0), within @a tolerance. -1 when the pixel saw
-   * something else (a surface in front or behind, or at another place).
+   * The fraction c of previous pixel j that saw the surface at point @a p, the rest seeing the
+   * background: its mean depth is c d + (1 - c) far (d: the point's distance from the previous
+   * camera) and its mean position c p (a miss stores 0), within @a tolerance. @a invSpan is
+   * 1 / (far - d) (> 0), @a most the largest c that depth tolerance allows. -1 when the pixel
+   * saw something else (a surface in front, or at another place).
    */
-  float Coverage(std::size_t j, Vec3 p, float distance, float tolerance) const
+  float Coverage(std::size_t j, Vec3 p, float invSpan, float most, float tolerance) const
   {
-    const float far = this->Prev.FarDistance;
-    if (!(distance < far))
-    {
-      return -1.f;
-    }
-    const float c = (far - this->PrevDepth[j]) / (far - distance);
-    if (!(c <= 1.f + tolerance / (far - distance)))
+    const float c = (this->Prev.FarDistance - this->PrevDepth[j]) * invSpan;
+    if (!(c <= most))
     {
       return -1.f; // a surface in front of the point
     }
@@ -208,6 +205,13 @@ struct Reprojector
       kToleranceScale * (this->Step + this->FootprintAt0 + this->FootprintPerT * depth) +
       kRelativeTolerance * depth;
     const Vec3 albedo = Load3(this->Albedo, i);
+    if (!(distance < this->Prev.FarDistance))
+    {
+      this->Fresh(i);
+      return 1;
+    }
+    const float invSpan = 1.f / (this->Prev.FarDistance - distance);
+    const float most = 1.f + tolerance * invSpan;
 
     // 2. the four pixels around the point
     const int x0 = static_cast<int>(u + 1.f) - 1; // floor: u, v > -1 here (and no libm call)
@@ -225,7 +229,7 @@ struct Reprojector
       bool same = px >= 0 && py >= 0 && px < width && py < height;
       if (same)
       {
-        const float c = this->Coverage(index[k], p, distance, tolerance);
+        const float c = this->Coverage(index[k], p, invSpan, most, tolerance);
         // A hit needs the surface over most of the pixel; a miss beside it, not all of it (a
         // pixel covered before is a disocclusion: the background shows through now).
         same = hit ? c >= kHitCoverage && this->SameAlbedo(index[k], albedo * c)
@@ -279,6 +283,38 @@ struct Reprojector
     this->OutCount[i] = 1.f;
   }
 };
+
+/// Rows [begin, end) of the frame; per row, the hits and the pixels that kept a history.
+inline void ReprojectRows(const Reprojector& r, int begin, int end, int* hits, int* reused)
+{
+  for (int y = begin; y < end; ++y)
+  {
+    int h = 0, kept = 0;
+    for (int x = 0; x < r.Cur.Width; ++x)
+    {
+      const int kind = r.Pixel(x, y);
+      h += kind > 0 ? 1 : 0;
+      kept += kind > 1 ? 1 : 0;
+    }
+    hits[y] = h;
+    reused[y] = kept;
+  }
+}
+
+// Scalar code compiled twice, as the tracer (ptvCpuTracer): the baseline and x86-64-v3.
+__attribute__((flatten)) void ReprojectRowsBaseline(
+  const Reprojector& r, int begin, int end, int* hits, int* reused)
+{
+  ReprojectRows(r, begin, end, hits, reused);
+}
+
+#ifdef PTV_HAS_AVX2_BUILD
+PTV_AVX2_TARGET __attribute__((flatten)) void ReprojectRowsAvx2(
+  const Reprojector& r, int begin, int end, int* hits, int* reused)
+{
+  ReprojectRows(r, begin, end, hits, reused);
+}
+#endif
 }
 
 //------------------------------------------------------------------------------
@@ -317,43 +353,36 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   this->HitEnd.assign(static_cast<std::size_t>(height), 0);
   r.HitBegin = this->HitBegin.data();
   r.HitEnd = this->HitEnd.data();
+  for (int y = 0; y < height; ++y) // (serial: a second parallel loop costs more to start)
+  {
+    const float* depth = r.Depth + std::size_t(y) * width;
+    int x = 0;
+    while (x < width && !IsHit(depth[x], current.FarDistance))
+    {
+      ++x;
+    }
+    this->HitBegin[y] = x;
+    int end = width;
+    while (end > x && !IsHit(depth[end - 1], current.FarDistance))
+    {
+      --end;
+    }
+    this->HitEnd[y] = x < width ? end : 0;
+  }
+  auto rows = &ReprojectRowsBaseline;
+#ifdef PTV_HAS_AVX2_BUILD
+  if (!UsePortableKernels(false) && CpuHasAvx2())
+  {
+    rows = &ReprojectRowsAvx2;
+  }
+#endif
   std::vector<int> hitRows(static_cast<std::size_t>(height), 0);
   std::vector<int> reusedRows(static_cast<std::size_t>(height), 0);
   WithThreads(threads,
     [&]()
     {
-      vtkSMPTools::For(0, height, 32,
-        [&](int begin, int end)
-        {
-          for (int y = begin; y < end; ++y)
-          {
-            const float* depth = r.Depth + std::size_t(y) * width;
-            for (int x = 0; x < width; ++x)
-            {
-              if (IsHit(depth[x], current.FarDistance))
-              {
-                this->HitBegin[y] = std::min(this->HitBegin[y], x);
-                this->HitEnd[y] = x + 1;
-              }
-            }
-          }
-        });
       vtkSMPTools::For(0, height, 8,
-        [&](int begin, int end)
-        {
-          for (int y = begin; y < end; ++y)
-          {
-            int hits = 0, reused = 0;
-            for (int x = 0; x < width; ++x)
-            {
-              const int kind = r.Pixel(x, y);
-              hits += kind > 0 ? 1 : 0;
-              reused += kind > 1 ? 1 : 0;
-            }
-            hitRows[y] = hits;
-            reusedRows[y] = reused;
-          }
-        });
+        [&](int begin, int end) { rows(r, begin, end, hitRows.data(), reusedRows.data()); });
     });
   accumulated.Swap(PassRadiance, this->Scratch);
   accumulated.Swap(PassAlpha, this->Scratch);
