@@ -75,8 +75,10 @@ public:
    * surface (depth, normal and albedo agree; disocclusions and silhouettes start afresh), and
    * its Radiance and Alpha (the other passes restart with the view) join that history as
    * an exponential moving average of at most
-   * MaximumHistory frames (default 8, range [1, 1000000]): more history is smoother and less
-   * noisy, but lags behind lighting that moves with the camera. A still camera accumulates
+   * MaximumHistory frames (default 2, range [1, 1000000]): more history is less noisy, but
+   * lags behind what changes with the view (lights that follow the camera, highlights, content
+   * behind the first event, which moves with another parallax); on a 2-degree-per-frame orbit
+   * of the head at 512^2, 2 was the most accurate (Testing/Benchmarks/temporal_reuse.py). A still camera accumulates
    * exactly as with it off. Off: every camera change starts again from one frame.
    */
   vtkSetMacro(TemporalReprojection, bool);
@@ -375,7 +377,7 @@ protected:
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;
   bool TemporalReprojection = true;
-  int MaximumHistory = 8;
+  int MaximumHistory = 2;
   bool ConvergeStillRenders = true;
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;
