@@ -831,6 +831,63 @@ class Evaluation:
                               fmt(r["tpsnr_min"]), fmt(r["psnr_vs_converged"])]
                              for r in orbit_rows])
         self.md += ["", "![orbit tPSNR](temporal_orbit.png)", ""]
+        self.md_temporal_reuse()
+
+    def md_temporal_reuse(self) -> None:
+        """The mapper's temporal reuse (TemporalReprojection), read from the results of
+        Testing/Benchmarks/temporal_reuse.py (not re-measured here: it runs for ~15 min)."""
+        path = ROOT / "Testing/Benchmarks/results/temporal_reuse.json"
+        self.md += ["### Camera motion with temporal reuse", ""]
+        if not path.exists():
+            self.md += [f"Not available: `{path.relative_to(ROOT)}` does not exist.", ""]
+            self.results["temporal_reuse"] = None
+            return
+        data = json.loads(path.read_text())
+        rows, m = data["rows"], data["args"]["default_history"]
+        self.md += [
+            f"From `{path.relative_to(ROOT)}` (`{data['command']}`; its tables and chart: "
+            "`results/temporal_reuse.md`): what the mapper shows while the camera moves, "
+            f"{data['args']['size']}², {data['args']['frames']} views "
+            f"{data['args']['step']}° apart, with TemporalReprojection on (MaximumHistory {m}) "
+            "and off.", ""]
+        reuse = f"ours + reprojection (M={m})"
+        table = [[r["dataset"], r["case"], r["method"], fmt(r["tpsnr_mean"]),
+                  "n/a" if r["method"].startswith("converged") else fmt(r["psnr_mean"]),
+                  fmt(r.get("never_below"))]
+                 for r in rows if r["method"] in (reuse, "ours per frame, new seed (report)",
+                                                  "OIDN fast per frame")
+                 or r["method"].startswith("converged")]
+        self.md += md_table(["dataset", "case", "method", "mean tPSNR [dB]",
+                             "PSNR vs converged [dB]", "worst frame vs no history [dB]"], table)
+        verdicts = []
+        for ds in dict.fromkeys(r["dataset"] for r in rows if r["case"] == "orbit"):
+            by = {r["method"]: r for r in rows if r["dataset"] == ds and r["case"] == "orbit"}
+            ours, today = by[reuse], by["ours per frame, new seed (report)"]
+            conv = next(r for k, r in by.items() if k.startswith("converged"))
+            oidn = by["OIDN fast per frame"]
+            steady_conv = ours["tpsnr_mean"] >= conv["tpsnr_mean"]
+            steady_oidn = ours["tpsnr_mean"] >= oidn["tpsnr_mean"]
+            verdicts.append(
+                f"* {ds} orbit: tPSNR {ours['tpsnr_mean']:.2f} dB vs converged "
+                f"{conv['tpsnr_mean']:.2f} ({'met' if steady_conv else 'NOT met'})"
+                f" and OIDN fast {oidn['tpsnr_mean']:.2f} "
+                f"({'met' if steady_oidn else 'NOT met'}); PSNR "
+                f"{ours['psnr_mean']:.2f} dB vs {today['psnr_mean']:.2f} per frame "
+                f"({ours['psnr_mean'] - today['psnr_mean']:+.2f} dB; target +2: "
+                f"{'met' if ours['psnr_mean'] - today['psnr_mean'] >= 2 else 'NOT met'}).")
+        shares = [c["reproject_ms"] / c["render_ms"] for c in data["cost"]]
+        if shares:
+            typical, worst = statistics.median(shares), max(shares)
+            verdicts.append(
+                f"* reprojection cost: {100 * typical:.1f} % of the render (median of "
+                f"{len(shares)} runs; target ≤ 5 %: {'met' if typical <= 0.05 else 'NOT met'}), "
+                f"at most {100 * worst:.1f} % in one run.")
+        flick = [r for r in data["static_flicker"] if r["method"].startswith("mapper")]
+        verdicts += [f"* {r['dataset']} still view: flicker {r['ratio_to_oidn']:.3f} of OIDN "
+                     "fast's (the mapper accumulates while the camera rests)." for r in flick]
+        self.md += [""] + verdicts + [""]
+        self.results["temporal_reuse"] = {"source": str(path.relative_to(ROOT)),
+                                          "verdicts": verdicts}
 
     # 5: stress suite
     def stress_cases(self) -> List[Dict[str, Any]]:
