@@ -9,6 +9,7 @@
 //  - MaximumStillFrames and StillTimeBudget stop a still render that cannot reach its target;
 //    progress events run to 1; with Denoise off the raw mean converges the same way.
 #include "ptvTestCheck.h"
+#include "ptvTestMetrics.h"
 #include "ptvTestScene.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
@@ -38,23 +39,6 @@ namespace
 {
 
 using Scene = AnalyticScene; // the mapper's defaults: still renders converge
-
-float Tone(float x)
-{
-  return std::min(1.0f, x > 0.0f ? std::pow(x, 1.0f / 2.2f) : 0.0f);
-}
-
-/// Mean squared difference after the tone map (docs/measuring.md).
-double ToneMse(const std::vector<float>& a, const std::vector<float>& b)
-{
-  double sum = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    const double d = Tone(a[i]) - Tone(b[i]);
-    sum += d * d;
-  }
-  return sum / static_cast<double>(std::max<std::size_t>(a.size(), 1));
-}
 
 double Psnr(double mse)
 {

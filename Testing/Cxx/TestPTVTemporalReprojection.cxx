@@ -13,6 +13,7 @@
 //    camera;
 //  - the same camera path and seed give the same frames, with 1 or 2 threads.
 #include "ptvTestCheck.h"
+#include "ptvTestMetrics.h"
 #include "ptvTestScene.h"
 #include "vtkCamera.h"
 #include "vtkLight.h"
@@ -82,32 +83,6 @@ struct Scene : AnalyticScene
     return this->Pass("Radiance");
   }
 };
-
-float Tone(float x)
-{
-  return std::min(1.0f, x > 0.0f ? std::pow(x, 1.0f / 2.2f) : 0.0f);
-}
-
-/// Mean squared tone-mapped difference over the pixels where @a mask is true.
-double Mse(const std::vector<float>& a, const std::vector<float>& b, const std::vector<bool>& mask)
-{
-  double sum = 0.0;
-  int count = 0;
-  for (std::size_t p = 0; p < mask.size(); ++p)
-  {
-    if (!mask[p])
-    {
-      continue;
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      const double d = Tone(a[3 * p + c]) - Tone(b[3 * p + c]);
-      sum += d * d;
-    }
-    ++count;
-  }
-  return count ? sum / (3.0 * count) : 0.0;
-}
 
 /// @a image (kSize^2 x 3) sampled at x + shift (bilinear, edge clamped).
 std::vector<float> ShiftX(const std::vector<float>& image, double shift)
@@ -202,12 +177,12 @@ void TestTranslation(double pixels)
   Check(volume > 100 && kept >= volume * 95 / 100,
     what + "volume pixels with history: " + Num(kept) + " of " + Num(volume));
   Check(fresh > 0, what + "the entering columns start afresh");
-  const double mseMoved = Mse(moved, refB, inner);
-  const double mseStill = Mse(still, refB, inner);
+  const double mseMoved = ToneMse(moved, refB, inner);
+  const double mseStill = ToneMse(still, refB, inner);
   double bound = 1.5 * mseStill + 1e-5;
   if (pixels != std::floor(pixels))
   {
-    bound += 2.0 * Mse(ShiftX(refA, pixels), refB, inner); // the interpolation error
+    bound += 2.0 * ToneMse(ShiftX(refA, pixels), refB, inner); // the interpolation error
   }
   Check(mseMoved <= bound,
     what + "error " + Num(mseMoved) + " vs 33 still frames' " + Num(mseStill) + " (bound " +
