@@ -3,6 +3,8 @@
 #include "ptvKernelDispatch.h"
 #include "ptvThreads.h"
 
+#include "vtkType.h"
+
 #include <algorithm>
 #include <chrono>
 #include <climits>
@@ -139,90 +141,86 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   PushGrid* grid = this->Levels;
   const int blocks = this->Blocks;
 
-  WithThreads(settings.Threads,
-    [&]()
+  // Phase 1: sanitise + demodulate into (r, g, b, 1), row sums of luminance.
+  auto start = std::chrono::steady_clock::now();
+  ParallelFor(settings.Threads, 0, height, 16,
+    [&](vtkIdType rowBegin, vtkIdType rowEnd)
     {
-      // Phase 1: sanitise + demodulate into (r, g, b, 1), row sums of luminance.
-      auto start = std::chrono::steady_clock::now();
-      vtkSMPTools::For(0, height, 16,
-        [&](vtkIdType rowBegin, vtkIdType rowEnd)
-        {
-          for (vtkIdType y = rowBegin; y < rowEnd; ++y)
-          {
-            double sum = 0.0;
-            std::size_t lit = 0;
-            for (int x = 0; x < width; ++x)
-            {
-              const std::size_t p = static_cast<std::size_t>(y) * width + x;
-              const Vec3 d = Demodulate(radiance + 3 * p, albedo ? albedo + 3 * p : nullptr);
-              float* cell = demod + 4 * p;
-              cell[0] = d.x;
-              cell[1] = d.y;
-              cell[2] = d.z;
-              cell[3] = 1.f;
-              const float lum = Luminance(d);
-              sum += static_cast<double>(lum);
-              lit += lum > 0.f ? 1 : 0;
-            }
-            rowLuminance[y] = sum;
-            rowLit[y] = lit;
-          }
-        });
-      double total = 0.0;
-      std::size_t litPixels = 0;
-      for (int y = 0; y < height; ++y)
+      for (vtkIdType y = rowBegin; y < rowEnd; ++y)
       {
-        total += rowLuminance[y];
-        litPixels += rowLit[y];
-      }
-      const double mean = litPixels > 0 ? total / static_cast<double>(litPixels) : 0.0;
-      const float limit = OutlierLimit(mean, settings.Clamp);
-      this->Timings.Demodulate = MillisecondsSince(start);
-
-      // Phase 2: push splat, every level; block b owns a fixed range of each level's grid rows.
-      start = std::chrono::steady_clock::now();
-      vtkSMPTools::For(0, blocks, 1,
-        [&](vtkIdType blockBegin, vtkIdType blockEnd)
+        double sum = 0.0;
+        std::size_t lit = 0;
+        for (int x = 0; x < width; ++x)
         {
-          for (vtkIdType b = blockBegin; b < blockEnd; ++b)
-          {
-            SplatScratch scratch;
-            scratch.Cells = this->Scratch.data() + this->ScratchFloats * b;
-            scratch.KMin = this->ScratchRanges.data() + 2 * this->ScratchColumns * b;
-            scratch.KMax = scratch.KMin + this->ScratchColumns;
-            for (int l = 0; l < levels; ++l)
-            {
-              const int rows = grid[l].Geometry.Height;
-              SplatInput in;
-              in.Demodulated4 = demod;
-              in.Guides = guides;
-              in.GuideStride = levels;
-              in.GuideOffset = l;
-              in.Width = width;
-              in.Height = height;
-              in.Limit = limit > 0.f ? limit : std::numeric_limits<float>::infinity();
-              const int jBegin = static_cast<int>(rows * b / blocks);
-              const int jEnd = static_cast<int>(rows * (b + 1) / blocks);
-              SplatGridRows(in, grid[l], scratch, jBegin, jEnd, portable);
-            }
-          }
-        });
-      this->Timings.Splat = MillisecondsSince(start);
-
-      // Phase 3: slice every level, blend, re-modulate; parallel over image rows.
-      start = std::chrono::steady_clock::now();
-      SliceInput in;
-      in.Levels = grid;
-      in.NumberOfLevels = levels;
-      in.Guides = guides;
-      in.Weights = levels > 1 ? weights : nullptr;
-      in.Albedo = albedo;
-      in.Out = out;
-      in.Width = width;
-      vtkSMPTools::For(0, height, 8,
-        [&](vtkIdType rowBegin, vtkIdType rowEnd)
-        { SliceRows(in, static_cast<int>(rowBegin), static_cast<int>(rowEnd), portable); });
-      this->Timings.Slice = MillisecondsSince(start);
+          const std::size_t p = static_cast<std::size_t>(y) * width + x;
+          const Vec3 d = Demodulate(radiance + 3 * p, albedo ? albedo + 3 * p : nullptr);
+          float* cell = demod + 4 * p;
+          cell[0] = d.x;
+          cell[1] = d.y;
+          cell[2] = d.z;
+          cell[3] = 1.f;
+          const float lum = Luminance(d);
+          sum += static_cast<double>(lum);
+          lit += lum > 0.f ? 1 : 0;
+        }
+        rowLuminance[y] = sum;
+        rowLit[y] = lit;
+      }
     });
+  double total = 0.0;
+  std::size_t litPixels = 0;
+  for (int y = 0; y < height; ++y)
+  {
+    total += rowLuminance[y];
+    litPixels += rowLit[y];
+  }
+  const double mean = litPixels > 0 ? total / static_cast<double>(litPixels) : 0.0;
+  const float limit = OutlierLimit(mean, settings.Clamp);
+  this->Timings.Demodulate = MillisecondsSince(start);
+
+  // Phase 2: push splat, every level; block b owns a fixed range of each level's grid rows.
+  start = std::chrono::steady_clock::now();
+  ParallelFor(settings.Threads, 0, blocks, 1,
+    [&](vtkIdType blockBegin, vtkIdType blockEnd)
+    {
+      for (vtkIdType b = blockBegin; b < blockEnd; ++b)
+      {
+        SplatScratch scratch;
+        scratch.Cells = this->Scratch.data() + this->ScratchFloats * b;
+        scratch.KMin = this->ScratchRanges.data() + 2 * this->ScratchColumns * b;
+        scratch.KMax = scratch.KMin + this->ScratchColumns;
+        for (int l = 0; l < levels; ++l)
+        {
+          const int rows = grid[l].Geometry.Height;
+          SplatInput in;
+          in.Demodulated4 = demod;
+          in.Guides = guides;
+          in.GuideStride = levels;
+          in.GuideOffset = l;
+          in.Width = width;
+          in.Height = height;
+          in.Limit = limit > 0.f ? limit : std::numeric_limits<float>::infinity();
+          const int jBegin = static_cast<int>(rows * b / blocks);
+          const int jEnd = static_cast<int>(rows * (b + 1) / blocks);
+          SplatGridRows(in, grid[l], scratch, jBegin, jEnd, portable);
+        }
+      }
+    });
+  this->Timings.Splat = MillisecondsSince(start);
+
+  // Phase 3: slice every level, blend, re-modulate; parallel over image rows.
+  start = std::chrono::steady_clock::now();
+  SliceInput in;
+  in.Levels = grid;
+  in.NumberOfLevels = levels;
+  in.Guides = guides;
+  in.Weights = levels > 1 ? weights : nullptr;
+  in.Albedo = albedo;
+  in.Out = out;
+  in.Width = width;
+  ParallelFor(settings.Threads, 0, height, 8,
+    [&](vtkIdType rowBegin, vtkIdType rowEnd)
+    { SliceRows(in, static_cast<int>(rowBegin), static_cast<int>(rowEnd), portable); });
+  this->Timings.Slice = MillisecondsSince(start);
 }
 }

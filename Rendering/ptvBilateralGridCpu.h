@@ -1,6 +1,6 @@
 /**
  * @file ptvBilateralGridCpu.h
- * @brief Private: the CPU driver of the bilateral-grid denoiser: vtkSMPTools loops over the row
+ * @brief Private: the CPU driver of the bilateral-grid denoiser: parallel loops (ptvThreads.h) over the row
  *        kernels of ptvBilateralGridRows.h (Highway, dispatched per instruction set), with the
  *        semantics of Kernels/ptvBilateralGrid.h.
  *
@@ -9,7 +9,7 @@
  * block owning its rows and a scratch row, all levels in one pass; the clamp is applied as pixels
  * are read), slice + blend + re-modulate (parallel over image rows). Every cell and pixel is
  * written by exactly one task in a fixed order and the mean luminance is summed per row and then
- * over rows in order, so the output is bit-identical for any number of threads and SMP backend.
+ * over rows in order, so the output is bit-identical for any number of threads.
  * Its cost follows the pixels: only cells that some pixel touches are cleared and normalised.
  *
  * The buffers live in the object and are reallocated only when the image size, the number of

@@ -2,7 +2,6 @@
 
 #include "ptvThreads.h"
 
-#include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
@@ -94,7 +93,7 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
   auto pass = [&](const float* in, float* out, int lines, int length, std::ptrdiff_t along,
                 std::ptrdiff_t across)
   {
-    vtkSMPTools::For(0, lines,
+    ParallelFor(threads, 0, lines, 0,
       [&](int begin, int end)
       {
         for (int line = begin; line < end; ++line)
@@ -115,12 +114,8 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
         }
       });
   };
-  WithThreads(threads,
-    [&]()
-    {
-      pass(map.data(), scratch.data(), height, width, 1, width);   // rows
-      pass(scratch.data(), map.data(), width, height, width, 1);   // columns
-    });
+  pass(map.data(), scratch.data(), height, width, 1, width);   // rows
+  pass(scratch.data(), map.data(), width, height, width, 1);   // columns
 }
 }
 
@@ -185,38 +180,34 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
   const int even = k - odd;
   const float halfScale = float(odd) * float(even) / (float(k) * float(k));
   const ToneTable& g = Tone();
-  WithThreads(threads,
-    [&]()
+  ParallelFor(threads, std::size_t(0), n, std::size_t(0),
+    [&](std::size_t begin, std::size_t end)
     {
-      vtkSMPTools::For(std::size_t(0), n,
-        [&](std::size_t begin, std::size_t end)
+      for (std::size_t p = begin; p < end; ++p)
+      {
+        float e = 0.0f, v = 0.0f, h = 0.0f;
+        for (int c = 0; c < 3; ++c)
         {
-          for (std::size_t p = begin; p < end; ++p)
+          const std::size_t i = 3 * p + c;
+          const float m = mean[i];
+          const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
+          const float half = g(this->OddMean[i]) - g(other);
+          h += half * half * halfScale;
+          if (denoised)
           {
-            float e = 0.0f, v = 0.0f, h = 0.0f;
-            for (int c = 0; c < 3; ++c)
-            {
-              const std::size_t i = 3 * p + c;
-              const float m = mean[i];
-              const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
-              const float half = g(this->OddMean[i]) - g(other);
-              h += half * half * halfScale;
-              if (denoised)
-              {
-                const float diff = g(denoised[i]) - g(m);
-                e += diff * diff;
-                const float slope = ToneSlope(g, m);
-                v += std::max(this->SecondMoment[i] - m * m, 0.0f) / float(k - 1) * slope * slope;
-              }
-            }
-            this->HalfVariance[p] = h / 3.0f;
-            if (denoised)
-            {
-              this->DenoiserError[p] = e / 3.0f;
-              this->Variance[p] = v / 3.0f;
-            }
+            const float diff = g(denoised[i]) - g(m);
+            e += diff * diff;
+            const float slope = ToneSlope(g, m);
+            v += std::max(this->SecondMoment[i] - m * m, 0.0f) / float(k - 1) * slope * slope;
           }
-        });
+        }
+        this->HalfVariance[p] = h / 3.0f;
+        if (denoised)
+        {
+          this->DenoiserError[p] = e / 3.0f;
+          this->Variance[p] = v / 3.0f;
+        }
+      }
     });
   const int box = VarianceBox(k);
   Box(this->HalfVariance, this->Scratch, this->Width, this->Height, std::max(box, 3), threads);

@@ -3,6 +3,8 @@
 #include "ptvPassBuffers.h"
 #include "ptvThreads.h"
 
+#include "vtkType.h"
+
 #include "ptvKernelDispatch.h"
 
 namespace ptv
@@ -89,11 +91,7 @@ void TraceFrameCpu(const TraceParams& params, unsigned int firstSample, int samp
   const TilesFunction trace = SelectTiles(portable);
   const vtkIdType tiles =
     static_cast<vtkIdType>(TilesAcross(params)) * ((params.Camera.Height + kTile - 1) / kTile);
-  WithThreads(threads,
-    [&]()
-    {
-      vtkSMPTools::For(0, tiles, 1,
-        [&](vtkIdType t0, vtkIdType t1) { trace(params, firstSample, samples, t0, t1, out); });
-    });
+  ParallelFor(threads, vtkIdType(0), tiles, vtkIdType(1),
+    [&](vtkIdType t0, vtkIdType t1) { trace(params, firstSample, samples, t0, t1, out); });
 }
 }

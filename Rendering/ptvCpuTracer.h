@@ -1,10 +1,10 @@
 /**
  * @file ptvCpuTracer.h
- * @brief Private: the CPU driver, a vtkSMPTools loop over 16x16 pixel tiles running
+ * @brief Private: the CPU driver, a parallel loop (ptvThreads.h) over 16x16 pixel tiles running
  *        Kernels/ptvIntegrator.h's TracePixelMean.
  *
  * Each pixel's random stream depends on (pixel, sample index, seed) only, so the frame is
- * bit-identical whatever the number of threads or the SMP backend.
+ * bit-identical whatever the number of threads.
  *
  * Instruction sets: the estimator is compiled twice, for the x86-64 baseline (SSE2) and for
  * x86-64-v3 (AVX2 + FMA; GCC/Clang function attributes), and the build is chosen at run time
@@ -24,9 +24,8 @@ class PassBuffers;
 /**
  * Trace @a samples samples per pixel (sample indices firstSample .. firstSample+samples-1 become
  * TraceParams::Frame) and store their mean per pixel in @a out (already sized to the camera's
- * width x height). @a threads <= 0 uses every core. The loop runs in a vtkSMPTools::LocalScope:
- * when the application's SMP backend is "Sequential" (the default of some VTK builds, e.g.
- * Debian's ParaView) it runs on "STDThread" for this frame only.
+ * width x height). @a threads <= 0 uses every core. Tiles are handed to the plugin's persistent worker threads
+ * (ptvThreads.h) in any order.
  */
 void TraceFrameCpu(const TraceParams& params, unsigned int firstSample, int samples, int threads,
   bool portable, PassBuffers& out);

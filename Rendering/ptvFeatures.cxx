@@ -5,6 +5,8 @@
 
 #include "ptvThreads.h"
 
+#include "vtkType.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -240,113 +242,109 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   const int reducedW = ReducedSize(width, s);
   const int reducedH = ReducedSize(height, s);
   const std::size_t plane = static_cast<std::size_t>(reducedW) * reducedH;
-  WithThreads(threads,
-    [&]()
+  for (Plan& plan : this->Plans)
+  {
+    const Channel& c = plan.Source;
+    if (c.What != Kind::Depth && c.What != Kind::Position)
     {
-      for (Plan& plan : this->Plans)
+      continue;
+    }
+    ChannelRange& r = plan.Range;
+    r.Miss = c.What == Kind::Depth ? 1.0f : 0.0f;
+    r.MaskDepth = passes[c.MaskPass];
+    const float* depth = r.MaskDepth;
+    ParallelFor(threads, 0, height, 32,
+      [&](vtkIdType y0, vtkIdType y1)
       {
-        const Channel& c = plan.Source;
-        if (c.What != Kind::Depth && c.What != Kind::Position)
+        for (vtkIdType y = y0; y < y1; ++y)
         {
-          continue;
-        }
-        ChannelRange& r = plan.Range;
-        r.Miss = c.What == Kind::Depth ? 1.0f : 0.0f;
-        r.MaskDepth = passes[c.MaskPass];
-        const float* depth = r.MaskDepth;
-        vtkSMPTools::For(0, height, 32,
-          [&](vtkIdType y0, vtkIdType y1)
+          const float* d = depth + static_cast<std::size_t>(y) * width;
+          float far = d[0];
+          for (int x = 1; x < width; ++x) // branch-free: vectorisable
           {
-            for (vtkIdType y = y0; y < y1; ++y)
-            {
-              const float* d = depth + static_cast<std::size_t>(y) * width;
-              float far = d[0];
-              for (int x = 1; x < width; ++x) // branch-free: vectorisable
-              {
-                far = d[x] > far ? d[x] : far;
-              }
-              this->RowFar[y] = far;
-            }
-          });
-        const float far = *std::max_element(this->RowFar.begin(), this->RowFar.end());
-        r.HitLimit = kHitFraction * far; // IsHit(d, far), evaluated once
-        const int comps = GetPassInfo(c.Pass).Components;
-        const float* src = passes[c.Pass];
-        vtkSMPTools::For(0, height, 32,
-          [&](vtkIdType y0, vtkIdType y1)
-          {
-            for (vtkIdType y = y0; y < y1; ++y)
-            {
-              // min / max over the row's hits, branch-free (no hit: lo > hi)
-              float lo = std::numeric_limits<float>::infinity();
-              float hi = -std::numeric_limits<float>::infinity();
-              for (std::size_t k = static_cast<std::size_t>(y) * width,
-                               end = k + static_cast<std::size_t>(width);
-                   k < end; ++k)
-              {
-                const float v = src[k * comps + c.Component];
-                const bool hit = depth[k] < r.HitLimit;
-                lo = hit && v < lo ? v : lo;
-                hi = hit && v > hi ? v : hi;
-              }
-              this->RowLow[y] = lo;
-              this->RowHigh[y] = hi;
-              this->RowAny[y] = lo <= hi ? 1 : 0;
-            }
-          });
-        bool any = false;
-        float lo = 0.f, hi = 0.f;
-        for (int y = 0; y < height; ++y)
-        {
-          if (this->RowAny[y])
-          {
-            lo = any ? std::min(lo, this->RowLow[y]) : this->RowLow[y];
-            hi = any ? std::max(hi, this->RowHigh[y]) : this->RowHigh[y];
-            any = true;
+            far = d[x] > far ? d[x] : far;
           }
+          this->RowFar[y] = far;
         }
-        r.Low = lo;
-        r.Range = hi - lo;
+      });
+    const float far = *std::max_element(this->RowFar.begin(), this->RowFar.end());
+    r.HitLimit = kHitFraction * far; // IsHit(d, far), evaluated once
+    const int comps = GetPassInfo(c.Pass).Components;
+    const float* src = passes[c.Pass];
+    ParallelFor(threads, 0, height, 32,
+      [&](vtkIdType y0, vtkIdType y1)
+      {
+        for (vtkIdType y = y0; y < y1; ++y)
+        {
+          // min / max over the row's hits, branch-free (no hit: lo > hi)
+          float lo = std::numeric_limits<float>::infinity();
+          float hi = -std::numeric_limits<float>::infinity();
+          for (std::size_t k = static_cast<std::size_t>(y) * width,
+                           end = k + static_cast<std::size_t>(width);
+               k < end; ++k)
+          {
+            const float v = src[k * comps + c.Component];
+            const bool hit = depth[k] < r.HitLimit;
+            lo = hit && v < lo ? v : lo;
+            hi = hit && v > hi ? v : hi;
+          }
+          this->RowLow[y] = lo;
+          this->RowHigh[y] = hi;
+          this->RowAny[y] = lo <= hi ? 1 : 0;
+        }
+      });
+    bool any = false;
+    float lo = 0.f, hi = 0.f;
+    for (int y = 0; y < height; ++y)
+    {
+      if (this->RowAny[y])
+      {
+        lo = any ? std::min(lo, this->RowLow[y]) : this->RowLow[y];
+        hi = any ? std::max(hi, this->RowHigh[y]) : this->RowHigh[y];
+        any = true;
       }
+    }
+    r.Low = lo;
+    r.Range = hi - lo;
+  }
 
-      // The features, pooled to the network's resolution; fixed blocks of its rows, each with
-      // a scratch row: each channel's full-resolution rows are transformed there (the colour's
-      // power law vectorised, ptvFeatureRows.cxx), then pooled.
-      vtkSMPTools::For(0, blocks, 1,
-        [&](vtkIdType b0, vtkIdType b1)
+  // The features, pooled to the network's resolution; fixed blocks of its rows, each with
+  // a scratch row: each channel's full-resolution rows are transformed there (the colour's
+  // power law vectorised, ptvFeatureRows.cxx), then pooled.
+  ParallelFor(threads, 0, blocks, 1,
+    [&](vtkIdType b0, vtkIdType b1)
+    {
+      for (vtkIdType b = b0; b < b1; ++b)
+      {
+        float* scratch = this->Scratch.data() + static_cast<std::size_t>(b) * width;
+        const vtkIdType first = reducedH * b / blocks;
+        const vtkIdType last = reducedH * (b + 1) / blocks;
+        for (vtkIdType i = first; i < last; ++i)
         {
-          for (vtkIdType b = b0; b < b1; ++b)
+          const int ii = static_cast<int>(i);
+          for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
           {
-            float* scratch = this->Scratch.data() + static_cast<std::size_t>(b) * width;
-            const vtkIdType first = reducedH * b / blocks;
-            const vtkIdType last = reducedH * (b + 1) / blocks;
-            for (vtkIdType i = first; i < last; ++i)
+            const Plan& plan = this->Plans[ci];
+            float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
+            if (s == 1)
             {
-              const int ii = static_cast<int>(i);
-              for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
-              {
-                const Plan& plan = this->Plans[ci];
-                float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
-                if (s == 1)
-                {
-                  TransformRow(plan.Source, plan.Range, passes, ii, width, portable, row);
-                  continue;
-                }
-                for (int dy = 0; dy < s; ++dy)
-                {
-                  TransformRow(plan.Source, plan.Range, passes, std::min(s * ii + dy, height - 1),
-                    width, portable, scratch);
-                  AccumulateRow(scratch, s, width, dy == 0, row);
-                }
-                const float area = static_cast<float>(s * s);
-                for (int j = 0; j < reducedW; ++j)
-                {
-                  row[j] = row[j] / area;
-                }
-              }
+              TransformRow(plan.Source, plan.Range, passes, ii, width, portable, row);
+              continue;
+            }
+            for (int dy = 0; dy < s; ++dy)
+            {
+              TransformRow(plan.Source, plan.Range, passes, std::min(s * ii + dy, height - 1),
+                width, portable, scratch);
+              AccumulateRow(scratch, s, width, dy == 0, row);
+            }
+            const float area = static_cast<float>(s * s);
+            for (int j = 0; j < reducedW; ++j)
+            {
+              row[j] = row[j] / area;
             }
           }
-        });
+        }
+      }
     });
   return true;
 }

@@ -10,7 +10,7 @@
  * With a guide stride s > 1 (the model's ptv.guide_stride, Training/ptv_training/guidenet.py)
  * each output pixel (i, j) of the ceil(H / s) x ceil(W / s) planes is the mean of the features of
  * the s x s block of pixels (s i + dy, s j + dx), indices clamped to the image (edge replicated).
- * Work is threaded over output rows (vtkSMPTools); buffers are kept between frames.
+ * Work is threaded over output rows (ptvThreads.h); buffers are kept between frames.
  */
 #ifndef ptvFeatures_h
 #define ptvFeatures_h

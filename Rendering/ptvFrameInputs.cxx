@@ -317,14 +317,10 @@ bool FrameInputs::UpdateTransfer(
     {
       this->BrickRanges.resize(2 * bricks);
       float* ranges = this->BrickRanges.data();
-      WithThreads(0,
-        [&]()
-        {
-          vtkSMPTools::For(0, this->BrickCounts[2], 1,
-            [&](vtkIdType z0, vtkIdType z1) {
-              BuildBrickRanges(
-                grid, kBrickSize, static_cast<int>(z0), static_cast<int>(z1), ranges);
-            });
+      ParallelFor(0, 0, this->BrickCounts[2], 1,
+        [&](vtkIdType z0, vtkIdType z1) {
+          BuildBrickRanges(
+            grid, kBrickSize, static_cast<int>(z0), static_cast<int>(z1), ranges);
         });
     }
     TransferTable table{};

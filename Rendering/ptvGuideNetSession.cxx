@@ -206,7 +206,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       options.SetExecutionMode(ExecutionMode::ORT_SEQUENTIAL);
       options.SetGraphOptimizationLevel(GraphOptimizationLevel::ORT_ENABLE_ALL);
       // Idle intra-op threads would otherwise busy-wait after each run and steal the cores of
-      // the path tracer (vtkSMPTools) that runs between two GuideNet calls.
+      // the path tracer (ptvThreads.h) that runs between two GuideNet calls.
       options.AddConfigEntry("session.intra_op.allow_spinning", "0");
       return options;
     };

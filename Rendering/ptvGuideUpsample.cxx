@@ -2,6 +2,8 @@
 
 #include "ptvThreads.h"
 
+#include "vtkType.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <string>
@@ -42,47 +44,43 @@ void GuideUpsampler::Run(const float* net, int netWidth, int netHeight, int stri
     Axis(width, netWidth, stride, this->X0, this->X1, this->LX);
     Axis(height, netHeight, stride, this->Y0, this->Y1, this->LY);
   }
-  WithThreads(threads,
-    [&]()
+  ParallelFor(threads, 0, height, 16,
+    [&](vtkIdType yBegin, vtkIdType yEnd)
     {
-      vtkSMPTools::For(0, height, 16,
-        [&](vtkIdType yBegin, vtkIdType yEnd)
+      for (vtkIdType y = yBegin; y < yEnd; ++y)
+      {
+        for (int c = 0; c < channels; ++c)
         {
-          for (vtkIdType y = yBegin; y < yEnd; ++y)
+          // Channel c: guide c, or weight c - levels (model plane modelLevels + c - levels).
+          const bool guide = c < levels;
+          const float* src = net + plane * (guide ? c : modelLevels + c - levels);
+          float* dst = guide ? guides + c : weights + (c - levels);
+          const int step = guide ? levels : levels - 1;
+          const float factor = guide ? scale : 1.0f;
+          float* out = dst + static_cast<std::size_t>(y) * width * step;
+          if (stride == 1)
           {
-            for (int c = 0; c < channels; ++c)
+            const float* row = src + static_cast<std::size_t>(y) * width;
+            for (int x = 0; x < width; ++x)
             {
-              // Channel c: guide c, or weight c - levels (model plane modelLevels + c - levels).
-              const bool guide = c < levels;
-              const float* src = net + plane * (guide ? c : modelLevels + c - levels);
-              float* dst = guide ? guides + c : weights + (c - levels);
-              const int step = guide ? levels : levels - 1;
-              const float factor = guide ? scale : 1.0f;
-              float* out = dst + static_cast<std::size_t>(y) * width * step;
-              if (stride == 1)
-              {
-                const float* row = src + static_cast<std::size_t>(y) * width;
-                for (int x = 0; x < width; ++x)
-                {
-                  out[static_cast<std::size_t>(x) * step] = row[x] * factor;
-                }
-                continue;
-              }
-              const float* r0 = src + static_cast<std::size_t>(this->Y0[y]) * netWidth;
-              const float* r1 = src + static_cast<std::size_t>(this->Y1[y]) * netWidth;
-              const float ly = this->LY[y];
-              for (int x = 0; x < width; ++x)
-              {
-                const int a = this->X0[x];
-                const int b = this->X1[x];
-                const float lx = this->LX[x];
-                const float top = (1.f - lx) * r0[a] + lx * r0[b];
-                const float bottom = (1.f - lx) * r1[a] + lx * r1[b];
-                out[static_cast<std::size_t>(x) * step] = ((1.f - ly) * top + ly * bottom) * factor;
-              }
+              out[static_cast<std::size_t>(x) * step] = row[x] * factor;
             }
+            continue;
           }
-        });
+          const float* r0 = src + static_cast<std::size_t>(this->Y0[y]) * netWidth;
+          const float* r1 = src + static_cast<std::size_t>(this->Y1[y]) * netWidth;
+          const float ly = this->LY[y];
+          for (int x = 0; x < width; ++x)
+          {
+            const int a = this->X0[x];
+            const int b = this->X1[x];
+            const float lx = this->LX[x];
+            const float top = (1.f - lx) * r0[a] + lx * r0[b];
+            const float bottom = (1.f - lx) * r1[a] + lx * r1[b];
+            out[static_cast<std::size_t>(x) * step] = ((1.f - ly) * top + ly * bottom) * factor;
+          }
+        }
+      }
     });
 }
 }

@@ -4,7 +4,6 @@
 #include "ptvThreads.h"
 
 #include "vtkMatrix4x4.h"
-#include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
@@ -378,12 +377,8 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
 #endif
   std::vector<int> hitRows(static_cast<std::size_t>(height), 0);
   std::vector<int> reusedRows(static_cast<std::size_t>(height), 0);
-  WithThreads(threads,
-    [&]()
-    {
-      vtkSMPTools::For(0, height, 8,
-        [&](int begin, int end) { rows(r, begin, end, hitRows.data(), reusedRows.data()); });
-    });
+  ParallelFor(threads, 0, height, 8,
+    [&](int begin, int end) { rows(r, begin, end, hitRows.data(), reusedRows.data()); });
   accumulated.Swap(PassRadiance, this->Scratch);
   accumulated.Swap(PassAlpha, this->Scratch);
   for (int p = 0; p < kTracedPassCount; ++p)
@@ -405,41 +400,37 @@ void Reprojection::Accumulate(
 {
   const std::size_t n = this->Counts.size();
   const float w = 1.0f / static_cast<float>(std::max(frames, 1));
-  WithThreads(threads,
-    [&]()
+  ParallelFor(threads, std::size_t(0), n, std::size_t(4096),
+    [&](std::size_t begin, std::size_t end)
     {
-      vtkSMPTools::For(std::size_t(0), n, std::size_t(4096),
-        [&](std::size_t begin, std::size_t end)
+      float* radiance = accumulated.Data(PassRadiance);
+      float* alpha = accumulated.Data(PassAlpha);
+      const float* fRadiance = frame.Data(PassRadiance);
+      const float* fAlpha = frame.Data(PassAlpha);
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const float a = 1.0f / (this->Counts[i] + 1.0f);
+        for (int c = 0; c < 3; ++c)
         {
-          float* radiance = accumulated.Data(PassRadiance);
-          float* alpha = accumulated.Data(PassAlpha);
-          const float* fRadiance = frame.Data(PassRadiance);
-          const float* fAlpha = frame.Data(PassAlpha);
-          for (std::size_t i = begin; i < end; ++i)
-          {
-            const float a = 1.0f / (this->Counts[i] + 1.0f);
-            for (int c = 0; c < 3; ++c)
-            {
-              radiance[3 * i + c] += (fRadiance[3 * i + c] - radiance[3 * i + c]) * a;
-            }
-            alpha[i] += (fAlpha[i] - alpha[i]) * a;
-            this->Counts[i] += 1.0f;
-          }
-          for (int p = 0; p < kTracedPassCount; ++p)
-          {
-            if (p == PassRadiance || p == PassAlpha)
-            {
-              continue;
-            }
-            const std::size_t c = static_cast<std::size_t>(GetPassInfo(p).Components);
-            float* acc = accumulated.Data(p);
-            const float* in = frame.Data(p);
-            for (std::size_t k = c * begin; k < c * end; ++k)
-            {
-              acc[k] += (in[k] - acc[k]) * w;
-            }
-          }
-        });
+          radiance[3 * i + c] += (fRadiance[3 * i + c] - radiance[3 * i + c]) * a;
+        }
+        alpha[i] += (fAlpha[i] - alpha[i]) * a;
+        this->Counts[i] += 1.0f;
+      }
+      for (int p = 0; p < kTracedPassCount; ++p)
+      {
+        if (p == PassRadiance || p == PassAlpha)
+        {
+          continue;
+        }
+        const std::size_t c = static_cast<std::size_t>(GetPassInfo(p).Components);
+        float* acc = accumulated.Data(p);
+        const float* in = frame.Data(p);
+        for (std::size_t k = c * begin; k < c * end; ++k)
+        {
+          acc[k] += (in[k] - acc[k]) * w;
+        }
+      }
     });
 }
 

@@ -3,6 +3,8 @@
 #include "ptvPassBuffers.h"
 #include "ptvThreads.h"
 
+#include "vtkType.h"
+
 #include "vtkCamera.h"
 #include "vtkMatrix4x4.h"
 #include "vtkRenderer.h"
@@ -129,33 +131,29 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
   }
   const float* depth = passes.Data(PassDepth);
   float* shown = this->Depth.data();
-  WithThreads(threads,
-    [&]()
+  ParallelFor(threads, 0, height, 16,
+    [&](vtkIdType yBegin, vtkIdType yEnd)
     {
-      vtkSMPTools::For(0, height, 16,
-        [&](vtkIdType yBegin, vtkIdType yEnd)
+      for (vtkIdType y = yBegin; y < yEnd; ++y)
+      {
+        for (int x = 0; x < width; ++x)
         {
-          for (vtkIdType y = yBegin; y < yEnd; ++y)
+          const std::size_t i = static_cast<std::size_t>(y) * width + x;
+          if (!IsHit(depth[i], far))
           {
-            for (int x = 0; x < width; ++x)
-            {
-              const std::size_t i = static_cast<std::size_t>(y) * width + x;
-              if (!IsHit(depth[i], far))
-              {
-                continue;
-              }
-              Vec3 o, d;
-              GenerateRay(camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
-              const Vec3 p = o + d * depth[i];
-              const double z = zRow[0] * p.x + zRow[1] * p.y + zRow[2] * p.z + zRow[3];
-              const double w = wRow[0] * p.x + wRow[1] * p.y + wRow[2] * p.z + wRow[3];
-              if (w != 0.0)
-              {
-                shown[i] = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
-              }
-            }
+            continue;
           }
-        });
+          Vec3 o, d;
+          GenerateRay(camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
+          const Vec3 p = o + d * depth[i];
+          const double z = zRow[0] * p.x + zRow[1] * p.y + zRow[2] * p.z + zRow[3];
+          const double w = wRow[0] * p.x + wRow[1] * p.y + wRow[2] * p.z + wRow[3];
+          if (w != 0.0)
+          {
+            shown[i] = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
+          }
+        }
+      }
     });
 }
 }

@@ -1,42 +1,72 @@
 /**
  * @file ptvThreads.h
- * @brief Private: the one place that turns a thread-count property into a vtkSMPTools scope.
+ * @brief Private: the project's parallel loops, on one persistent pool of worker threads.
  *
- * Debian's VTK defaults to the Sequential SMP backend, which would run every loop on one core;
- * unless one thread is asked for, the project's own loops then use "STDThread" (for their own
- * scope only: the application's backend choice is left alone). threads <= 0 means every core.
+ * Debian's VTK 9.2 runs vtkSMPTools loops on the Sequential backend by default, and its
+ * STDThread backend starts and joins a new pool of threads in every For call (about 0.1 ms
+ * here). A frame runs a dozen short loops (the denoiser's stages take 1-4 ms each at 512^2), so
+ * the project's loops share one pool instead: its workers are started on first use, sleep on a
+ * condition variable between loops (no spinning that would take cores from ONNX Runtime), and the
+ * calling thread works too. Chunks are handed out in any order; every caller partitions its work
+ * so that the result does not depend on which thread runs a chunk, so images are bit-identical
+ * for any number of threads. One loop runs on the pool at a time: a loop started while the pool
+ * is busy (another render thread, or a loop inside a loop) runs its chunks on its own thread.
  */
 #ifndef ptvThreads_h
 #define ptvThreads_h
 
-#include "vtkSMPTools.h"
-
 #include <algorithm>
-#include <string>
+#include <cstddef>
 #include <thread>
 
 namespace ptv
 {
-/// Run @a body inside a vtkSMPTools::LocalScope of @a threads threads (<= 0: every core).
-template <class Body>
-void WithThreads(int threads, const Body& body)
-{
-  std::string backend = vtkSMPTools::GetBackend() ? vtkSMPTools::GetBackend() : "Sequential";
-  if (backend == "Sequential" && threads != 1)
-  {
-    backend = "STDThread";
-  }
-  if (threads <= 0)
-  {
-    threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  }
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ threads, backend, false }, body);
-}
-
 /// The number of threads @a threads stands for (<= 0: every core).
 inline int ResolvedThreads(int threads)
 {
   return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+/// Calls @a call(@a context, c) for every chunk c in [0, @a chunks) on up to @a threads threads
+/// (<= 0: every core), the calling thread included; returns when every chunk has run.
+void RunChunks(int threads, std::size_t chunks, void (*call)(const void*, std::size_t),
+  const void* context);
+
+/**
+ * Calls @a body(first, last) over [@a begin, @a end) in ranges of @a grain items (the last one
+ * shorter) on up to @a threads threads (<= 0: every core). @a grain <= 0 picks about four ranges
+ * per thread.
+ */
+template <class Index, class Body>
+void ParallelFor(int threads, Index begin, Index end, Index grain, const Body& body)
+{
+  if (end <= begin)
+  {
+    return;
+  }
+  const std::size_t n = static_cast<std::size_t>(end - begin);
+  std::size_t g = grain > 0 ? static_cast<std::size_t>(grain) : 0;
+  if (g == 0)
+  {
+    const std::size_t parts = 4 * static_cast<std::size_t>(ResolvedThreads(threads));
+    g = std::max<std::size_t>(1, (n + parts - 1) / parts);
+  }
+  struct Context
+  {
+    Index Begin;
+    std::size_t Count, Grain;
+    const Body* Run;
+  } context{ begin, n, g, &body };
+  RunChunks(threads, (n + g - 1) / g,
+    [](const void* p, std::size_t chunk)
+    {
+      const Context& c = *static_cast<const Context*>(p);
+      const std::size_t first = chunk * c.Grain;
+      const std::size_t last = std::min(c.Count, first + c.Grain);
+      (*c.Run)(static_cast<Index>(c.Begin + static_cast<Index>(first)),
+        static_cast<Index>(c.Begin + static_cast<Index>(last)));
+    },
+    &context);
 }
 }
 

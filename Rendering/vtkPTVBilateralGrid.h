@@ -15,7 +15,7 @@
  * not used and may be nullptr. The output image gets the inputs'
  * geometry and a 3-component vtkFloatArray "Denoised" as active scalars (reused, not
  * reallocated, when the output already holds one of the right size). The CPU work runs on
- * vtkSMPTools (STDThread when the application's backend is Sequential) and is bit-identical
+ * the plugin's persistent worker threads (ptvThreads.h) and is bit-identical
  * for any NumberOfThreads. Invalid input is reported with vtkErrorMacro naming the offending
  * value, and Apply returns false without touching the output.
  */

@@ -266,8 +266,9 @@ public:
   ///@{
   /**
    * Threads used to trace a frame; 0 (default) uses every core. Frames are bit-identical for
-   * any value. When VTK's SMP backend is "Sequential" the tracer uses "STDThread" for its own
-   * loop only.
+   * any value. The tracer, the denoiser and the display share one persistent pool of worker
+   * threads of the plugin's own (VTK 9.2's SMP backends are either sequential or start new
+   * threads for every loop); the application's vtkSMPTools backend is left alone.
    */
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);

@@ -14,8 +14,9 @@
 #   a symbolized stack. (A suppression could not name the unmapped module.)
 # Debian's VTK is built without VTK_DEBUG_LEAKS, so vtkDebugLeaks cannot report leaked VTK
 #   objects; LeakSanitizer sees every leaked heap block instead (a leaked vtkObject included).
-# --thread: a ThreadSanitizer build instead (build-tsan/), running the concurrency test
-#   (TestPTVConcurrentRender: two windows and mappers rendering in two threads) unless ctest
+# --thread: a ThreadSanitizer build instead (build-tsan/), running the concurrency tests
+#   (TestPTVConcurrentRender: two windows and mappers rendering in two threads; TestPTVThreads:
+#   the plugin's worker pool) unless ctest
 #   arguments say otherwise; third-party code TSan cannot see into is suppressed in
 #   scripts/tsan.supp.
 # Usage: scripts/sanitize.sh [--thread] [ctest args...]   e.g. scripts/sanitize.sh -R BadInput
@@ -33,7 +34,7 @@ if [[ $MODE == thread ]]; then
   BUILD="${PTV_TSAN_BUILD_DIR:-$ROOT/build-tsan}"
   SAN="thread"
   FLAGS="-fsanitize=thread -fno-omit-frame-pointer"
-  (($#)) || set -- -R ConcurrentRender
+  (($#)) || set -- -R 'ConcurrentRender|TestPTVThreads'
 else
   BUILD="${PTV_ASAN_BUILD_DIR:-$ROOT/build-asan}"
   SAN="address,undefined"

@@ -19,7 +19,7 @@ set -e
 echo "scripts/test.sh: ctest exit code $rc after $(( $(date +%s) - start )) s"
 # The whole suite (no ctest arguments) also runs the C++ tests under the sanitizers (issue #9):
 # AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer on every `cxx` test, then
-# ThreadSanitizer on the concurrency test. Their builds (build-asan/, build-tsan/) are cached like
+# ThreadSanitizer on the concurrency tests (two renders at once; the worker pool). Their builds (build-asan/, build-tsan/) are cached like
 # build/. PTV_SANITIZE=0 skips them.
 if (($# == 0)) && [[ "${PTV_SANITIZE:-1}" != 0 ]]; then
   set +e

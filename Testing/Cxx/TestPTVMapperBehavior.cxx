@@ -29,7 +29,6 @@
 #include "vtkRTAnalyticSource.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTestErrorObserver.h"
 #include "vtkVolume.h"
@@ -231,7 +230,6 @@ void TestDeterminism()
     s.Window->Render();
     noSkip = s.Pass("Radiance");
   }
-  std::cout << "application SMP backend: " << vtkSMPTools::GetBackend() << "\n";
   Check(!one.empty() && one == two, "bit-identical with 1 and 2 threads");
   Check(two == noSkip, "bit-identical with and without empty-space skipping");
 }

@@ -1,0 +1,143 @@
+#include "ptvThreads.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <vector>
+
+namespace ptv
+{
+namespace
+{
+/// True on a thread while it runs a pool's chunk: a loop inside a loop runs on that thread.
+thread_local bool tInChunk = false;
+
+/// The shared pool (see ptvThreads.h). One loop (a "job") at a time; workers join a job only
+/// while it is open, so the caller never waits for a worker that wakes late.
+class Pool
+{
+public:
+  ~Pool()
+  {
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Stop = true;
+    }
+    this->Wake.notify_all();
+    for (std::thread& t : this->Workers)
+    {
+      t.join();
+    }
+  }
+
+  void Run(int threads, std::size_t chunks, void (*call)(const void*, std::size_t),
+    const void* context)
+  {
+    if (tInChunk) // never try_lock a mutex this thread may own
+    {
+      for (std::size_t c = 0; c < chunks; ++c)
+      {
+        call(context, c);
+      }
+      return;
+    }
+    std::unique_lock<std::mutex> busy(this->Busy, std::try_to_lock);
+    if (threads <= 1 || chunks <= 1 || !busy.owns_lock())
+    {
+      for (std::size_t c = 0; c < chunks; ++c)
+      {
+        call(context, c);
+      }
+      return;
+    }
+    const std::size_t helpers = std::min<std::size_t>(threads - 1, chunks - 1);
+    while (this->Workers.size() < helpers)
+    {
+      const int index = static_cast<int>(this->Workers.size());
+      this->Workers.emplace_back([this, index]() { this->Work(index); });
+    }
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Call = call;
+      this->Context = context;
+      this->Chunks = chunks;
+      this->Next.store(0);
+      this->Finished.store(0);
+      this->Helpers = static_cast<int>(helpers);
+      this->Open = true;
+      ++this->Generation;
+    }
+    this->Wake.notify_all();
+    this->Drain();
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    this->Done.wait(lock, [this]() { return this->Finished.load() == this->Chunks; });
+    this->Open = false; // late workers stay asleep; wait for those inside to leave
+    this->Done.wait(lock, [this]() { return this->Inside == 0; });
+  }
+
+private:
+  void Drain()
+  {
+    tInChunk = true;
+    for (std::size_t c = this->Next.fetch_add(1); c < this->Chunks; c = this->Next.fetch_add(1))
+    {
+      this->Call(this->Context, c);
+      if (this->Finished.fetch_add(1) + 1 == this->Chunks)
+      {
+        std::lock_guard<std::mutex> lock(this->Mutex);
+        this->Done.notify_all();
+      }
+    }
+    tInChunk = false;
+  }
+
+  void Work(int index)
+  {
+    unsigned long long seen = 0;
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    for (;;)
+    {
+      this->Wake.wait(lock,
+        [&]()
+        { return this->Stop || (this->Open && this->Generation != seen && index < this->Helpers); });
+      if (this->Stop)
+      {
+        return;
+      }
+      seen = this->Generation;
+      ++this->Inside;
+      lock.unlock();
+      this->Drain();
+      lock.lock();
+      if (--this->Inside == 0)
+      {
+        this->Done.notify_all();
+      }
+    }
+  }
+
+  std::mutex Busy; // held by the thread whose loop runs on the pool
+  std::mutex Mutex;
+  std::condition_variable Wake, Done;
+  std::vector<std::thread> Workers;
+  bool Stop = false;
+  bool Open = false;
+  unsigned long long Generation = 0;
+  int Helpers = 0;
+  int Inside = 0;
+  void (*Call)(const void*, std::size_t) = nullptr;
+  const void* Context = nullptr;
+  std::size_t Chunks = 0;
+  std::atomic<std::size_t> Next{ 0 };
+  std::atomic<std::size_t> Finished{ 0 };
+};
+}
+
+//------------------------------------------------------------------------------
+void RunChunks(int threads, std::size_t chunks, void (*call)(const void*, std::size_t),
+  const void* context)
+{
+  static Pool pool;
+  pool.Run(ResolvedThreads(threads), chunks, call, context);
+}
+}
