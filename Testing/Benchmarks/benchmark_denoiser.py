@@ -5,8 +5,9 @@ For each dataset and size: the 1-spp passes and a high-spp reference of one view
 with vtkPathTracedVolumeMapper (Denoise off) and cached in <cache>/bench; then, in the same run,
 vtkPTVDenoiser (the model, every grid level count; with 2 threads, and with 1 thread and with the
 portable kernels at the model's level count) and pyoidn's RT filter (quality fast and balanced,
-HDR colour + albedo + normal) denoise the same radiance. Times are medians of --repeats runs after
-a warm-up; ours is split into features, GuideNet (incl. the guide upsampling), splat (incl.
+HDR colour + albedo + normal) denoise the same radiance. Every method runs once per round, one
+warm-up round and then --repeats timed rounds, so a slow spell of a shared machine slows all of
+them alike: times are medians over rounds and ratios are medians of per-round ratios. Ours is split into features, GuideNet (incl. the guide upsampling), splat (incl.
 demodulation) and slice, and given in ns per pixel. PSNR/SSIM (scikit-image, data_range 1)
 against the reference, all images tone-mapped clip(max(0,x)^(1/2.2),0,1) (docs/measuring.md).
 Run it on an idle machine: nothing else (no build, training or second benchmark) on the cores.
@@ -16,13 +17,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import sys
 from pathlib import Path
-from typing import Any, Dict, List
+from typing import Any, Callable, Dict, List
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402  (appends <repo>/Python after PYTHONPATH)
-from ptvbench import ROOT, run_oidn, run_ours  # noqa: E402
+from ptvbench import ROOT  # noqa: E402
 
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
@@ -44,18 +46,29 @@ def parse_args() -> argparse.Namespace:
 
 
 def measure(p: pb.Passes, args: argparse.Namespace, levels: int) -> Dict[str, Dict[str, Any]]:
-    """Every method on one frame's passes, in one run; ``levels``: the model's level count."""
-    full = run_ours(p, 0, args.model, args.repeats)
-    methods: Dict[str, Dict[str, Any]] = {"noisy 1 spp": {"ms": 0.0, "image": p["Radiance"]}}
+    """Every method on one frame's passes, interleaved round by round (pb.interleaved);
+    ``levels``: the model's level count. Each method's ``times`` are kept for paired ratios."""
+    ours: Dict[str, pb.Ours] = {}
     for count in range(1, levels):
-        methods[f"ours {count} level{'s' if count > 1 else ''}"] = run_ours(
-            p, count, args.model, args.repeats)
-    methods[f"ours {levels} levels"] = full
-    methods[f"ours {levels} levels, 1 thread"] = run_ours(p, 0, args.model, args.repeats, 1)
-    methods[f"ours {levels} levels, portable kernels"] = run_ours(
-        p, 0, args.model, args.repeats, portable=True)
+        ours[f"ours {count} level{'s' if count > 1 else ''}"] = pb.Ours(count, args.model)
+    ours[f"ours {levels} levels"] = pb.Ours(0, args.model)
+    ours[f"ours {levels} levels, 1 thread"] = pb.Ours(0, args.model, threads=1)
+    ours[f"ours {levels} levels, portable kernels"] = pb.Ours(0, args.model, portable=True)
+    for o in ours.values():
+        o.set_passes(p)
+    calls: Dict[str, Callable[[], Any]] = {name: o.execute for name, o in ours.items()}
     for q in ("fast", "balanced"):
-        methods[f"OIDN RT {q}"] = run_oidn(p, q, args.repeats)
+        calls[f"OIDN RT {q}"] = (lambda q=q: pb.oidn(p, q))
+    runs = pb.interleaved(calls, args.repeats, {name: o.stages for name, o in ours.items()})
+    methods: Dict[str, Dict[str, Any]] = {"noisy 1 spp": {"ms": 0.0, "image": p["Radiance"],
+                                                          "times": []}}
+    for name, run in runs.items():
+        m: Dict[str, Any] = {"ms": statistics.median(run["times"]), "image": run["result"],
+                             "times": run["times"]}
+        if name in ours:
+            m.update({k: statistics.median(e[k] for e in run["extra"]) for k in STAGES})
+            m.update(status=ours[name].status(), kernels=ours[name].kernel_target())
+        methods[name] = m
     return methods
 
 
@@ -63,6 +76,7 @@ def main() -> int:
     args = parse_args()
     rows: List[Dict[str, Any]] = []
     summary = []
+    ratios: List[Dict[str, Any]] = []
     levels = pb.model_levels(args.model)
     for dataset in args.datasets:
         for size in args.sizes:
@@ -79,14 +93,20 @@ def main() -> int:
                              "reference_half_vs_full_psnr": check})
             sel = {r["method"]: r for r in rows if r["dataset"] == dataset and r["size"] == size}
             ours, oidn = sel[f"ours {levels} levels"], sel["OIDN RT fast"]
-            one = sel[f"ours {levels} levels, 1 thread"]
+            full = methods[f"ours {levels} levels"]["times"]
+            speedup = pb.paired_ratio(methods["OIDN RT fast"]["times"], full)
+            threads = pb.paired_ratio(methods[f"ours {levels} levels, 1 thread"]["times"], full)
+            ratios.append({"dataset": dataset, "size": size, "oidn_fast_over_ours": speedup,
+                           "one_over_two_threads": threads,
+                           "psnr_ours_minus_oidn_fast": ours["psnr"] - oidn["psnr"]})
             summary.append(
-                f"{dataset} {size}²: OIDN fast / ours = {oidn['ms'] / ours['ms']:.1f}x "
-                f"(target >= 10x); PSNR ours - OIDN fast = {ours['psnr'] - oidn['psnr']:+.2f} dB "
-                f"(target >= -0.5); 1 -> 2 threads {one['ms'] / ours['ms']:.2f}x; reference "
-                f"check (ref/2 vs ref) {check:.1f} dB")
+                f"{dataset} {size}²: OIDN fast / ours = {speedup:.1f}x (target >= 10x); PSNR "
+                f"ours - OIDN fast = {ours['psnr'] - oidn['psnr']:+.2f} dB (target >= -0.5); "
+                f"1 -> 2 threads {threads:.2f}x (target >= 1.7x); reference check (ref/2 vs "
+                f"ref) {check:.1f} dB")
     first = next(r for r in rows if "status" in r)
-    print(f"\n{os.cpu_count()} cores; median of {args.repeats} after a warm-up; reference "
+    print(f"\n{os.cpu_count()} cores; median of {args.repeats} rounds after a warm-up round, "
+          "every method once per round; ratios are medians of per-round ratios; reference "
           f"{args.ref_spp} spp; model: {first['status']}; grid kernels: {first['kernels']}")
     print("| dataset | size | method | ms | ns/pixel | features | GuideNet | splat | slice "
           "| PSNR | SSIM |")
@@ -98,7 +118,7 @@ def main() -> int:
               f"{r['ssim']:.4f} |")
     print("\n".join(summary))
     if args.json:
-        write_text(args.json, json.dumps(rows, indent=2))
+        write_text(args.json, json.dumps({"rows": rows, "ratios": ratios}, indent=2))
     return 0
 
 

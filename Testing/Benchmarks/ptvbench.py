@@ -45,6 +45,34 @@ def timed(fn: Callable[[], T], repeats: int) -> Tuple[float, T]:
     return statistics.median(times), result
 
 
+def interleaved(calls: Mapping[str, Callable[[], Any]], repeats: int,
+                after: Optional[Mapping[str, Callable[[], Dict[str, float]]]] = None
+                ) -> Dict[str, Dict[str, Any]]:
+    """Every call of ``calls`` once per round, one warm-up round and then ``repeats`` timed
+    rounds, so that a slow spell of a shared machine slows every method alike and ratios can be
+    taken round by round (:func:`paired_ratio`). ``after[name]()`` is read after each timed call
+    (e.g. per-stage times). Returns per name: ``times`` (ms per round), ``extra`` (the ``after``
+    dicts), ``result`` (the last call's result)."""
+    out: Dict[str, Dict[str, Any]] = {n: {"times": [], "extra": [], "result": None} for n in calls}
+    for round_ in range(repeats + 1):
+        for name, fn in calls.items():
+            start = time.perf_counter()
+            result = fn()
+            ms = 1000.0 * (time.perf_counter() - start)
+            out[name]["result"] = result
+            if round_ == 0:
+                continue
+            out[name]["times"].append(ms)
+            if after and name in after:
+                out[name]["extra"].append(after[name]())
+    return out
+
+
+def paired_ratio(numerator: Sequence[float], denominator: Sequence[float]) -> float:
+    """Median over rounds of numerator / denominator, both timed in the same round."""
+    return statistics.median(a / b for a, b in zip(numerator, denominator))
+
+
 # --- scenes -------------------------------------------------------------------------------
 def load_dataset(name: str) -> Any:
     """The dataset's ``.vti`` (``pathtracedvolume.datasets``) as an updated vtkImageData."""
