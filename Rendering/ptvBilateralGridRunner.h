@@ -2,7 +2,7 @@
  * @file ptvBilateralGridRunner.h
  * @brief Private: run the bilateral grid on the CUDA device when asked and able, else on the
  *        CPU -- the one place that chooses between ptvCudaBilateralGrid and ptvBilateralGridCpu
- *        (used by vtkPTVBilateralGrid and the mapper's denoiser).
+ *        (used by ptvDenoiser).
  */
 #ifndef ptvBilateralGridRunner_h
 #define ptvBilateralGridRunner_h

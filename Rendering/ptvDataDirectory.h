@@ -15,6 +15,12 @@ namespace ptv
 {
 /// The data folder (no trailing slash); "" when the library's own path cannot be found.
 std::string DataDirectory();
+
+/// The shipped GuideNet model: DataDirectory() + "/Models/guidenet.onnx".
+inline std::string DefaultModelFile()
+{
+  return DataDirectory() + "/Models/guidenet.onnx";
+}
 }
 
 #endif

@@ -1,11 +1,9 @@
 #include "ptvDenoiser.h"
 
-#include <cmath>
-
+#include "ptvDataDirectory.h"
 #include "ptvFeatures.h"
 #include "ptvKernelDispatch.h"
 #include "ptvPassBuffers.h"
-#include "vtkPTVGuideNet.h"
 
 #include "vtkTimerLog.h"
 
@@ -13,6 +11,8 @@
 #include <cmath>
 #include <cstddef>
 #include <fstream>
+
+#include <sys/stat.h>
 
 namespace ptv
 {
@@ -39,17 +39,25 @@ std::string Denoiser::TakeWarning()
 bool Denoiser::EnsureModel(const DenoiserSettings& settings)
 {
   const std::string path =
-    settings.ModelFile.empty() ? vtkPTVGuideNet::GetDefaultModelFile() : settings.ModelFile;
-  if (path == this->RequestedModel && settings.Threads == this->SessionThreads)
+    settings.ModelFile.empty() ? DefaultModelFile() : settings.ModelFile;
+  // The file's identity: a model that failed is tried again once its file changes (written
+  // later, replaced), not on every frame.
+  struct stat info;
+  const std::string stamp = ::stat(path.c_str(), &info) == 0
+    ? std::to_string(info.st_mtime) + ":" + std::to_string(info.st_size)
+    : std::string("none");
+  if (path == this->RequestedModel && settings.Threads == this->SessionThreads &&
+    (this->ModelProblem.empty() || stamp == this->RequestedStamp))
   {
     return this->ModelProblem.empty();
   }
   this->RequestedModel = path;
+  this->RequestedStamp = stamp;
   this->SessionThreads = settings.Threads;
   this->ModelProblem.clear();
   if (!std::ifstream(path).good())
   {
-    this->ModelProblem = "no GuideNet model at '" + path + "'";
+    this->ModelProblem = "no GuideNet model at '" + path + "' (missing or unreadable)";
   }
   else
   {
@@ -77,8 +85,138 @@ bool Denoiser::EnsureModel(const DenoiserSettings& settings)
 }
 
 //------------------------------------------------------------------------------
+bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
+  int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done)
+{
+  const double t0 = NowMs();
+  const bool portable = UsePortableKernels(settings.PortableKernels);
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  // Features at the network's resolution (the model's guide stride): given, or built from the
+  // passes. Then GuideNet, then its outputs upsampled into the grid's guides and weights.
+  const std::vector<std::string>& channels = this->Session.GetInputChannels();
+  const int stride = this->Session.GetGuideStride();
+  const int netWidth = ReducedSize(width, stride);
+  const int netHeight = ReducedSize(height, stride);
+  const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
+  this->Features.resize(channels.size() * netPixels);
+  if (given.Features)
+  {
+    if (given.FeatureChannels != static_cast<int>(channels.size()))
+    {
+      std::string names;
+      for (const std::string& c : channels)
+      {
+        names += (names.empty() ? "" : ",") + c;
+      }
+      error = "'Features' has " + std::to_string(given.FeatureChannels) + " components but the model " +
+        this->RequestedModel + " expects " + std::to_string(channels.size()) + " channels: " + names;
+      return false;
+    }
+    if (given.FeatureWidth != netWidth || given.FeatureHeight != netHeight)
+    {
+      error = "'Features' is " + std::to_string(given.FeatureWidth) + " x " +
+        std::to_string(given.FeatureHeight) + " but the model runs at 1/" +
+        std::to_string(stride) + " resolution: expected " + std::to_string(netWidth) + " x " +
+        std::to_string(netHeight) + " for a " + std::to_string(width) + " x " +
+        std::to_string(height) + " frame";
+      return false;
+    }
+    const std::size_t c = channels.size();
+    for (std::size_t k = 0; k < netPixels; ++k) // interleaved -> planar
+    {
+      for (std::size_t ci = 0; ci < c; ++ci)
+      {
+        this->Features[ci * netPixels + k] = given.Features[k * c + ci];
+      }
+    }
+  }
+  else if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
+             portable, this->Features.data(), error))
+  {
+    return false; // a pass the model needs is missing: the caller's input is incomplete
+  }
+  const double t1 = NowMs();
+  this->Timings.Features = t1 - t0;
+  const int modelLevels = this->Session.GetNumberOfLevels();
+  this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * netPixels);
+  std::string runError;
+  if (!this->Session.Run(this->Features.data(), netHeight, netWidth, this->NetOutput.data(),
+        runError))
+  {
+    this->NetworkActive = false;
+    this->ModelProblem = runError;
+    this->RequestedModel.clear(); // retry the load next time
+    return true;
+  }
+  const std::string source = this->RequestedModel + " (" +
+    this->Session.GetExecutionProvider() + ")" + (given.Features ? ", given features" : "");
+  if (this->Session.IsImageModel())
+  {
+    // An image-to-image model (the U-Net baseline): its output is the result; no grid.
+    this->Timings.GuideNet = NowMs() - t1;
+    const float* planes = this->NetOutput.data();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const float v = planes[c * n + k];
+        out[3 * k + c] = std::isfinite(v) && v > 0.f ? v : 0.f;
+      }
+    }
+    this->Levels = 0;
+    this->Status = "image model " + source + ", no grid";
+    done = true;
+    return true;
+  }
+  const int levels = settings.Levels > 0 ? std::min(settings.Levels, modelLevels) : modelLevels;
+  this->Levels = levels;
+  this->Guides.resize(n * levels);
+  this->Weights.resize(n * std::max(levels - 1, 0));
+  // Fewer levels than the model: the first levels-1 weights, the last level takes the rest.
+  this->Upsampler.Run(this->NetOutput.data(), netWidth, netHeight, stride, width, height, levels,
+    modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads,
+    this->Guides.data(), this->Weights.data());
+  this->Timings.GuideNet = NowMs() - t1;
+  this->Status = "GuideNet " + source + ", " + std::to_string(levels) + " levels" +
+    (stride > 1 ? ", guides at 1/" + std::to_string(stride) + " resolution" : "") +
+    (this->Session.GetDemodulate() ? "" : ", no demodulation");
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool Denoiser::FixedGuide(const DenoiserSettings& settings, const float* const* passes,
+  int width, int height, std::string& error)
+{
+  const double t0 = NowMs();
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  this->Features.resize(kFixedGuideChannels.size() * n);
+  if (!this->FeatureMaker.Build(passes, width, height, kFixedGuideChannels, 1, settings.Threads,
+        UsePortableKernels(settings.PortableKernels), this->Features.data(), error))
+  {
+    return false;
+  }
+  const int levels = settings.Levels > 0 ? settings.Levels : 3;
+  this->Levels = levels;
+  this->Guides.resize(n * levels);
+  this->Weights.assign(n * std::max(levels - 1, 0), 1.0f / static_cast<float>(levels));
+  const float* f = this->Features.data();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const float albedo = 0.2126f * f[k] + 0.7152f * f[n + k] + 0.0722f * f[2 * n + k];
+    const float normal = (f[4 * n + k] + f[5 * n + k] + f[6 * n + k]) / 3.0f;
+    const float g = 0.35f * albedo + 0.35f * f[3 * n + k] + 0.3f * normal;
+    for (int l = 0; l < levels; ++l)
+    {
+      this->Guides[k * levels + l] = 255.0f * std::min(1.0f, std::max(0.0f, g));
+    }
+  }
+  this->Timings.Features = NowMs() - t0;
+  return true;
+}
+
+//------------------------------------------------------------------------------
 bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes, int width,
-  int height, float* out, std::string& error)
+  int height, float* out, std::string& error, const DenoiserOverrides* given)
 {
   this->Timings = DenoiserTimings{};
   if (width <= 0 || height <= 0)
@@ -87,133 +225,121 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
       std::to_string(height) + ")";
     return false;
   }
-  if (!passes[PassRadiance] || !passes[PassAlbedo])
+  if (!passes[PassRadiance])
   {
-    error = "denoising needs the Radiance and Albedo passes";
+    error = "denoising needs the Radiance pass";
     return false;
   }
+  const DenoiserOverrides none;
+  const DenoiserOverrides& g = given ? *given : none;
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-
-  // Guides and weights: GuideNet, or the fixed guide.
-  double t0 = NowMs();
-  const bool portable = UsePortableKernels(settings.PortableKernels); // features and grid
-  this->NetworkActive = settings.UseNetwork && this->EnsureModel(settings);
   BilateralGridSettings grid;
   grid.Clamp = settings.Clamp;
   grid.Threads = settings.Threads;
-  if (this->NetworkActive)
+  grid.Portable = UsePortableKernels(settings.PortableKernels);
+  std::copy(settings.SpatialStep, settings.SpatialStep + kMaxGridLevels, grid.SpatialStep);
+  std::copy(settings.RangeStep, settings.RangeStep + kMaxGridLevels, grid.RangeStep);
+
+  // Guides and weights: given, GuideNet's, or the fixed guide's.
+  bool demodulate = true;
+  if (g.Guides)
   {
-    // Features at the network's resolution (the model's guide stride), GuideNet, then its
-    // outputs upsampled into the grid's interleaved guides and weights.
-    const std::vector<std::string>& channels = this->Session.GetInputChannels();
-    const int stride = this->Session.GetGuideStride();
-    const int netWidth = ReducedSize(width, stride);
-    const int netHeight = ReducedSize(height, stride);
-    const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
-    this->Features.resize(channels.size() * netPixels);
-    if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
-          portable, this->Features.data(), error))
+    const int levels = g.GuideLevels;
+    if (levels < 1 || levels > kMaxGridLevels)
     {
-      return false; // a pass the model needs is missing: the caller's input is incomplete
+      error = "'Guides' has " + std::to_string(levels) + " components; 1 to " +
+        std::to_string(kMaxGridLevels) + " (one per grid level) are possible";
+      return false;
     }
-    const double t1 = NowMs();
-    this->Timings.Features = t1 - t0;
-    const int modelLevels = this->Session.GetNumberOfLevels();
-    this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * netPixels);
-    std::string runError;
-    if (!this->Session.Run(this->Features.data(), netHeight, netWidth, this->NetOutput.data(),
-          runError))
+    if (settings.Levels > 0 && settings.Levels != levels)
     {
-      this->NetworkActive = false;
-      this->ModelProblem = runError;
-      this->RequestedModel.clear(); // retry the load next time
+      error = "'Guides' has " + std::to_string(levels) + " components but NumberOfLevels is " +
+        std::to_string(settings.Levels) + " (0 takes the guides' count)";
+      return false;
     }
-    else if (this->Session.IsImageModel())
+    if (levels > 1 && !g.Weights)
     {
-      // An image-to-image model (the U-Net baseline): its output is the result; no grid.
-      this->Timings.GuideNet = NowMs() - t1;
-      const float* planes = this->NetOutput.data();
-      for (std::size_t k = 0; k < n; ++k)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          const float v = planes[c * n + k];
-          out[3 * k + c] = std::isfinite(v) && v > 0.f ? v : 0.f;
-        }
-      }
-      this->Levels = 0;
-      this->Status = "image model " + this->RequestedModel + " (" +
-        this->Session.GetExecutionProvider() + "), no grid";
-      return true;
+      error = std::to_string(levels) + " levels of 'Guides' need 'BlendWeights' (" +
+        std::to_string(levels - 1) + " components)";
+      return false;
+    }
+    this->NetworkActive = false;
+    this->Levels = levels;
+    this->Guides.assign(g.Guides, g.Guides + n * levels);
+    if (levels > 1)
+    {
+      this->Weights.assign(g.Weights, g.Weights + n * (levels - 1));
     }
     else
     {
-      const int levels = settings.Levels > 0 ? std::min(settings.Levels, modelLevels) : modelLevels;
-      this->Levels = levels;
-      this->Guides.resize(n * levels);
-      this->Weights.resize(n * std::max(levels - 1, 0));
-      for (int l = 0; l < levels; ++l)
-      {
-        grid.SpatialStep[l] = this->Session.GetLevels()[l].first;
-        grid.RangeStep[l] = this->Session.GetLevels()[l].second;
-      }
-      // Fewer levels than the model: the first levels-1 weights, the last level takes the rest.
-      this->Upsampler.Run(this->NetOutput.data(), netWidth, netHeight, stride, width, height,
-        levels, modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads,
-        this->Guides.data(), this->Weights.data());
-      this->Timings.GuideNet = NowMs() - t1;
-      this->Status = "GuideNet " + this->RequestedModel + " (" +
-        this->Session.GetExecutionProvider() + "), " + std::to_string(levels) + " levels" +
-        (stride > 1 ? ", guides at 1/" + std::to_string(stride) + " resolution" : "") +
-        (this->Session.GetDemodulate() ? "" : ", no demodulation");
+      this->Weights.clear();
     }
+    demodulate = passes[PassAlbedo] != nullptr;
+    this->Status = "given guides, " + std::to_string(levels) + " levels" +
+      (demodulate ? "" : ", no demodulation (no Albedo)");
   }
-  if (!this->NetworkActive)
+  else
   {
-    const std::string why = settings.UseNetwork ? this->ModelProblem : "UseNetwork is off";
-    if (settings.UseNetwork && why != this->LastWarned)
+    this->NetworkActive = settings.UseNetwork && this->EnsureModel(settings);
+    if (this->NetworkActive)
     {
-      this->Warning = why + "; denoising with a fixed guide (no network)";
-      this->LastWarned = why;
+      bool done = false; // an image model's output is the result
+      if (!this->RunNetwork(settings, passes, width, height, g, out, error, done))
+      {
+        return false;
+      }
+      if (done)
+      {
+        return true;
+      }
+      if (this->NetworkActive)
+      {
+        this->LastModelWarning.clear(); // a model that fails again is reported again
+        for (int l = 0; l < this->Levels; ++l) // the model's steps
+        {
+          grid.SpatialStep[l] = this->Session.GetLevels()[l].first;
+          grid.RangeStep[l] = this->Session.GetLevels()[l].second;
+        }
+      }
     }
-    this->Status = "fixed guide: " + why;
-    this->Features.resize(kFixedGuideChannels.size() * n);
-    if (!this->FeatureMaker.Build(passes, width, height, kFixedGuideChannels, 1,
-          settings.Threads, portable, this->Features.data(), error))
+    if (!this->NetworkActive)
     {
+      const std::string why = settings.UseNetwork ? this->ModelProblem : "UseNetwork is off";
+      if (settings.UseNetwork && why != this->LastModelWarning)
+      {
+        this->Warning = why + "; denoising with a fixed guide (no network)" +
+          (g.Features ? ", the given 'Features' unused" : ""); // the first warning of a Run
+        this->LastModelWarning = why;
+      }
+      this->Status = "fixed guide: " + why;
+      if (!this->FixedGuide(settings, passes, width, height, error))
+      {
+        error = "the fixed guide (" + why + ") cannot run: " + error;
+        this->Warning.clear(); // the error says it all
+        return false;
+      }
+    }
+    // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
+    demodulate = !this->NetworkActive || this->Session.GetDemodulate();
+    if (demodulate && !passes[PassAlbedo])
+    {
+      error = std::string(this->NetworkActive ? "the model" : "the fixed guide") +
+        " divides the radiance by the Albedo pass, which is missing";
       return false;
     }
-    const int levels = settings.Levels > 0 ? settings.Levels : 3;
-    this->Levels = levels;
-    this->Guides.resize(n * levels);
-    this->Weights.assign(n * std::max(levels - 1, 0), 1.0f / static_cast<float>(levels));
-    const float* f = this->Features.data();
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      const float albedo = 0.2126f * f[k] + 0.7152f * f[n + k] + 0.0722f * f[2 * n + k];
-      const float normal = (f[4 * n + k] + f[5 * n + k] + f[6 * n + k]) / 3.0f;
-      const float g = 0.35f * albedo + 0.35f * f[3 * n + k] + 0.3f * normal;
-      for (int l = 0; l < levels; ++l)
-      {
-        this->Guides[k * levels + l] = 255.0f * std::min(1.0f, std::max(0.0f, g));
-      }
-    }
-    this->Timings.Features = NowMs() - t0;
   }
 
   grid.Levels = this->Levels;
-  grid.Portable = portable;
-  // A model says whether it was trained on radiance / albedo; the fixed guide demodulates.
-  const bool demodulate = !this->NetworkActive || this->Session.GetDemodulate();
   const float* albedo = demodulate ? passes[PassAlbedo] : nullptr;
   const float* weights = this->Levels > 1 ? this->Weights.data() : nullptr;
   std::string cudaError;
   this->Grid.Apply(grid, settings.UseCuda, width, height, passes[PassRadiance], albedo,
     this->Guides.data(), weights, out, cudaError);
-  if (settings.UseCuda && !this->Grid.GetLastOnCuda() && cudaError != this->LastWarned)
+  if (settings.UseCuda && !this->Grid.GetLastOnCuda() && cudaError != this->LastGridWarning)
   {
-    this->Warning = "bilateral grid on CUDA failed (" + cudaError + "); using the CPU";
-    this->LastWarned = cudaError;
+    this->Warning += (this->Warning.empty() ? "" : "\n") +
+      std::string("bilateral grid on CUDA failed (") + cudaError + "); using the CPU";
+    this->LastGridWarning = cudaError;
   }
   const BilateralGridTimings& t = this->Grid.GetLastTimings();
   this->Timings.Splat = t.Demodulate + t.Splat;

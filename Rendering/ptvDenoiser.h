@@ -23,13 +23,31 @@ namespace ptv
 {
 struct DenoiserSettings
 {
-  std::string ModelFile; ///< empty: the shipped model (vtkPTVGuideNet::GetDefaultModelFile())
+  std::string ModelFile; ///< empty: the shipped model (ptv::DefaultModelFile())
   bool UseNetwork = true; ///< false: always the fixed guide
   int Levels = 0;         ///< 0: the model's (3 for the fixed guide); 1..3, <= the model's
   double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
   int Threads = 0;        ///< <= 0: every core
   bool UseCuda = false;   ///< run the grid on the CUDA device (falls back to the CPU on error)
   bool PortableKernels = false; ///< CPU grid: the baseline kernels, not this CPU's best SIMD
+  /// Grid steps of the fixed guide and of given guides (a model's own steps take precedence).
+  int SpatialStep[kMaxGridLevels] = { 4, 8, 16 };
+  int RangeStep[kMaxGridLevels] = { 4, 8, 16 };
+};
+
+/**
+ * Optional inputs that replace a stage (vtkPTVDenoiser's "Features", "Guides", "BlendWeights"):
+ * the network's input instead of the features built from the passes, or the grid's guides and
+ * blend weights instead of the network (then the grid runs alone and demodulates when the
+ * Albedo pass is given). All interleaved (channel last), row-major, bottom row first.
+ */
+struct DenoiserOverrides
+{
+  const float* Features = nullptr; ///< FeatureWidth x FeatureHeight x FeatureChannels
+  int FeatureChannels = 0, FeatureWidth = 0, FeatureHeight = 0;
+  const float* Guides = nullptr; ///< width x height x GuideLevels, [0, 255]
+  int GuideLevels = 0;
+  const float* Weights = nullptr; ///< width x height x (GuideLevels - 1), needed when > 1 level
 };
 
 struct DenoiserTimings
@@ -42,12 +60,14 @@ class Denoiser
 public:
   /**
    * Denoise a @a width x @a height frame from @a passes (indexed by PassId, interleaved, nullptr
-   * for a missing pass) into @a out (width * height * 3). Returns false with @a error for
-   * unusable input (missing Radiance/Albedo, zero size); a model that cannot be used is not an
-   * error: the fixed guide takes over and TakeWarning() says why, once.
+   * for a missing pass) into @a out (width * height * 3), with the stages that @a given replaces
+   * (may be nullptr). Returns false with @a error for unusable input (no Radiance, zero size, a
+   * pass the features or the demodulation need, given features or guides of the wrong shape);
+   * a model that cannot be used is not an error: the fixed guide takes over and TakeWarning()
+   * says why, once.
    */
   bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
-    float* out, std::string& error);
+    float* out, std::string& error, const DenoiserOverrides* given = nullptr);
 
   /// Whether the last Run used GuideNet (else the fixed guide).
   bool GetNetworkActive() const { return this->NetworkActive; }
@@ -69,9 +89,16 @@ public:
 
 private:
   bool EnsureModel(const DenoiserSettings& settings);
+  /// The network's guides and weights (NetworkActive stays true) or false after a run error.
+  bool RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
+    int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done);
+  /// The fixed guide's guides and weights from albedo, depth and normal.
+  bool FixedGuide(const DenoiserSettings& settings, const float* const* passes, int width,
+    int height, std::string& error);
 
   GuideNetSession Session;
   std::string RequestedModel; // the path of the last load attempt
+  std::string RequestedStamp; // its file's modification time and size then
   std::string ModelProblem;   // why the model is not usable ("" = loaded)
   int SessionThreads = -1;
   BilateralGridRunner Grid;
@@ -80,7 +107,8 @@ private:
   std::vector<float> Features, NetOutput, Guides, Weights;
   int Levels = 0;
   bool NetworkActive = false;
-  std::string Status, Warning, LastWarned;
+  std::string Status, Warning;
+  std::string LastModelWarning, LastGridWarning; // each reason is warned about once in a row
   DenoiserTimings Timings;
 };
 }

@@ -1,6 +1,9 @@
 #include "vtkPTVDenoiser.h"
 
+#include "ptvDataDirectory.h"
 #include "ptvDenoiser.h"
+#include "ptvDenoiserImages.h"
+#include "ptvGuideNetSession.h"
 #include "ptvPassBuffers.h"
 
 #include "vtkDataArray.h"
@@ -11,21 +14,9 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 
-#include <sstream>
+#include <algorithm>
 #include <string>
 #include <vector>
-
-struct vtkPTVDenoiser::vtkInternals
-{
-  vtkSmartPointer<vtkImageData> Images[ptv::PassCount];
-  ptv::Denoiser Core;
-  vtkNew<vtkImageData> Output;
-  int Width = 0;
-  int Height = 0;
-  std::string Status;
-};
-
-vtkStandardNewMacro(vtkPTVDenoiser);
 
 namespace
 {
@@ -42,6 +33,18 @@ void MakeImage(vtkImageData* image, int w, int h, const char* name, int comps, c
 }
 }
 
+struct vtkPTVDenoiser::vtkInternals
+{
+  ptv::DenoiserImages Images;
+  ptv::DenoiserSettings Settings; // the grid steps live here
+  ptv::Denoiser Core;
+  vtkNew<vtkImageData> Output;
+  int Width = 0;
+  int Height = 0;
+};
+
+vtkStandardNewMacro(vtkPTVDenoiser);
+
 //------------------------------------------------------------------------------
 vtkPTVDenoiser::vtkPTVDenoiser()
   : Internals(new vtkInternals)
@@ -55,35 +58,95 @@ vtkPTVDenoiser::~vtkPTVDenoiser()
 }
 
 //------------------------------------------------------------------------------
+std::string vtkPTVDenoiser::GetDefaultModelFile()
+{
+  return ptv::DefaultModelFile();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkPTVDenoiser::GetRuntimeVersion()
+{
+  return ptv::GuideNetSession::GetRuntimeVersion();
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVDenoiser::SetImage(const char* name, vtkImageData* image)
 {
-  const int pass = ptv::FindPass(name);
-  if (pass < 0)
+  if (!this->Internals->Images.Set(name, image))
   {
     vtkErrorMacro(<< "Unknown image name '" << (name ? name : "(null)")
                   << "'; use the pass names of vtkPathTracedVolumeMapper (Radiance, Albedo, "
-                     "Normal, Depth, ...).");
+                     "Normal, Depth, ...) or "
+                  << ptv::DenoiserImages::kStageNames << ".");
     return;
   }
-  this->Internals->Images[pass] = image;
   this->Modified();
 }
 
 //------------------------------------------------------------------------------
 vtkImageData* vtkPTVDenoiser::GetImage(const char* name)
 {
-  const int pass = ptv::FindPass(name);
-  return pass < 0 ? nullptr : this->Internals->Images[pass].GetPointer();
+  return this->Internals->Images.Get(name);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVDenoiser::RemoveAllImages()
 {
-  for (auto& image : this->Internals->Images)
-  {
-    image = nullptr;
-  }
+  this->Internals->Images.Clear();
   this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVDenoiser::SetSpatialStep(int level, int step)
+{
+  this->SetStep(level, step, this->Internals->Settings.SpatialStep, "SetSpatialStep");
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVDenoiser::SetRangeStep(int level, int step)
+{
+  this->SetStep(level, step, this->Internals->Settings.RangeStep, "SetRangeStep");
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVDenoiser::GetSpatialStep(int level)
+{
+  return this->GetStep(level, this->Internals->Settings.SpatialStep, "GetSpatialStep");
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVDenoiser::GetRangeStep(int level)
+{
+  return this->GetStep(level, this->Internals->Settings.RangeStep, "GetRangeStep");
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVDenoiser::SetStep(int level, int step, int* steps, const char* what)
+{
+  if (level < 0 || level >= ptv::kMaxGridLevels)
+  {
+    vtkErrorMacro(<< what << ": level " << level << " is out of range [0, "
+                  << ptv::kMaxGridLevels - 1 << "]");
+    return;
+  }
+  step = std::min(std::max(step, 1), ptv::kMaxGridStep);
+  if (steps[level] != step)
+  {
+    steps[level] = step;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVDenoiser::GetStep(int level, const int* steps, const char* what)
+{
+  if (level < 0 || level >= ptv::kMaxGridLevels)
+  {
+    vtkErrorMacro(<< what << ": level " << level << " is out of range [0, "
+                  << ptv::kMaxGridLevels - 1 << "]");
+    return 0;
+  }
+  return steps[level];
 }
 
 //------------------------------------------------------------------------------
@@ -91,57 +154,23 @@ bool vtkPTVDenoiser::Execute()
 {
   vtkInternals& in = *this->Internals;
   const float* passes[ptv::PassCount] = {};
-  int w = -1, h = -1;
-  for (int p = 0; p < ptv::PassCount; ++p)
+  int w = 0, h = 0;
+  ptv::DenoiserOverrides given;
+  std::string error;
+  if (!in.Images.Resolve(passes, w, h, given, error))
   {
-    vtkImageData* image = in.Images[p];
-    if (!image)
-    {
-      continue;
-    }
-    const char* name = ptv::GetPassInfo(p).Name;
-    int dims[3];
-    image->GetDimensions(dims);
-    vtkDataArray* scalars = image->GetPointData()->GetScalars();
-    if (!scalars && image->GetPointData()->GetNumberOfArrays() == 1)
-    {
-      scalars = image->GetPointData()->GetArray(0);
-    }
-    auto* floats = vtkFloatArray::SafeDownCast(scalars);
-    const int comps = ptv::GetPassInfo(p).Components;
-    if (!floats || floats->GetNumberOfComponents() != comps || dims[2] != 1 ||
-      floats->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1])
-    {
-      vtkErrorMacro(<< "Image '" << name << "' must be a W x H x 1 image with a float array of "
-                    << comps << " component(s); got "
-                    << (scalars ? scalars->GetDataTypeAsString() : "no array") << " with "
-                    << (scalars ? scalars->GetNumberOfComponents() : 0) << " component(s), "
-                    << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
-      return false;
-    }
-    if (w >= 0 && (dims[0] != w || dims[1] != h))
-    {
-      vtkErrorMacro(<< "Image '" << name << "' is " << dims[0] << " x " << dims[1]
-                    << " but the other images are " << w << " x " << h << ".");
-      return false;
-    }
-    w = dims[0];
-    h = dims[1];
-    passes[p] = floats->GetPointer(0);
-  }
-  if (w <= 0 || h <= 0)
-  {
-    vtkErrorMacro(<< "No usable images: set at least Radiance and Albedo (non-empty).");
+    vtkErrorMacro(<< error);
     return false;
   }
 
-  ptv::DenoiserSettings settings;
+  ptv::DenoiserSettings& settings = in.Settings;
   settings.ModelFile = this->ModelFile ? this->ModelFile : "";
   settings.UseNetwork = this->UseNetwork;
   settings.Levels = this->NumberOfLevels;
   settings.Clamp = this->Clamp;
   settings.Threads = this->NumberOfThreads;
   settings.PortableKernels = this->PortableKernels;
+  settings.UseCuda = this->UseCuda;
   // The result goes straight into the output's "Denoised" array, reused while the size stays
   // (no allocation per frame); a new array is attached only after a successful run.
   const vtkIdType pixels = static_cast<vtkIdType>(w) * h;
@@ -158,8 +187,7 @@ bool vtkPTVDenoiser::Execute()
     result->SetNumberOfComponents(3);
     result->SetNumberOfTuples(pixels);
   }
-  std::string error;
-  if (!in.Core.Run(settings, passes, w, h, result->GetPointer(0), error))
+  if (!in.Core.Run(settings, passes, w, h, result->GetPointer(0), error, &given))
   {
     vtkErrorMacro(<< error);
     return false;
@@ -177,9 +205,19 @@ bool vtkPTVDenoiser::Execute()
     in.Output->SetDimensions(w, h, 1);
     in.Output->GetPointData()->SetScalars(result);
   }
+  vtkImageData* radiance = in.Images.Get("Radiance");
+  in.Output->SetOrigin(radiance->GetOrigin());
+  in.Output->SetSpacing(radiance->GetSpacing());
+  in.Output->SetDirectionMatrix(radiance->GetDirectionMatrix());
   result->Modified();
   in.Output->Modified();
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPTVDenoiser::GetLastGridOnCuda()
+{
+  return this->Internals->Core.GetGridOnCuda();
 }
 
 //------------------------------------------------------------------------------
@@ -262,5 +300,13 @@ void vtkPTVDenoiser::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Clamp: " << this->Clamp << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "PortableKernels: " << this->PortableKernels << "\n";
+  os << indent << "UseCuda: " << this->UseCuda << " (last grid on "
+     << (this->Internals->Core.GetGridOnCuda() ? "CUDA" : "the CPU") << ")\n";
+  const ptv::DenoiserSettings& s = this->Internals->Settings;
+  for (int l = 0; l < ptv::kMaxGridLevels; ++l)
+  {
+    os << indent << "Level " << l << ": SpatialStep " << s.SpatialStep[l] << ", RangeStep "
+       << s.RangeStep[l] << "\n";
+  }
   os << indent << "Status: " << this->Internals->Core.GetStatus() << "\n";
 }

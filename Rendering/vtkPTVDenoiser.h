@@ -1,19 +1,33 @@
 /**
  * @class vtkPTVDenoiser
- * @brief Neural bilateral-grid denoiser with named input images (the OIDN filter shape).
+ * @brief The denoiser: neural bilateral grid with named input images (the OIDN filter shape).
  *
  * Give it the passes of a frame by name -- the names of vtkPathTracedVolumeMapper's passes:
- * "Radiance" and "Albedo" (required), and whatever the model's feature channels need ("Normal",
+ * "Radiance" (required), "Albedo", and whatever the model's feature channels need ("Normal",
  * "Depth", "ScatterNormal", "ScatterDepth", ...) -- as 2D float images (W x H x 1, one
- * point-data array with 1 or 3 components), call Execute() and read GetOutput() (array
- * "Denoised", 3 components).
+ * point-data array: the active scalars, or else the only array), call Execute() and read
+ * GetOutput() (array "Denoised", 3 components; the Radiance image's origin and spacing).
  *
- * GuideNet (ONNX Runtime; ModelFile, default the shipped Data/Models/guidenet.onnx) predicts
- * one guide per grid level and blend weights; the demodulated radiance (radiance / (albedo +
- * 0.01)) is splatted into each level's bilateral grid, sliced with the level's guide, blended
- * and re-modulated (Kernels/ptvBilateralGrid.h). Without a usable model (missing, corrupt,
- * wrong shape, or UseNetwork off) it denoises with a fixed guide built from albedo, depth and
- * normal, warns once, and reports it in GetNetworkActive()/GetStatus(): it never fails a render.
+ * The stages: features -> GuideNet (ONNX Runtime; ModelFile, default GetDefaultModelFile())
+ * predicts one guide per grid level and blend weights -> the radiance (divided by albedo + 0.01
+ * when the model says so) is splatted into each level's bilateral grid, sliced with the level's
+ * guide, blended and re-modulated (Rendering/Kernels/ptvBilateralGrid.h, which the torch
+ * reference Training/ptv_training/bilateral_grid.py follows). GetGuides() and
+ * GetBlendWeights() return what the network predicted.
+ *
+ * Three more image names replace a stage, for tests and research:
+ * - "Features": the network's input (channel last, in the model's channel order, at the
+ *   model's resolution: ceil(W / s) x ceil(H / s) for guide stride s) instead of the features
+ *   built from the passes.
+ * - "Guides" (L components, [0, 255]) and "BlendWeights" (L - 1 components, [0, 1], needed when
+ *   L > 1): the grid runs alone on them with SpatialStep/RangeStep, dividing by "Albedo" when it
+ *   is given.
+ *
+ * Without a usable model (missing, corrupt, wrong shape, or UseNetwork off) it denoises with a
+ * fixed guide built from albedo, depth and normal, warns once, and reports it in
+ * GetNetworkActive()/GetStatus(): a model never fails a render. Invalid images are errors
+ * (vtkErrorMacro naming the image and the offending value; Execute() returns false and the
+ * output keeps the last result). The CPU work is bit-identical for any NumberOfThreads.
  * vtkPathTracedVolumeMapper runs the same code on its passes when its Denoise setting is on.
  */
 #ifndef vtkPTVDenoiser_h
@@ -23,6 +37,7 @@
 #include "vtkPTVRenderingModule.h" // for export macro
 
 #include <memory> // for std::unique_ptr
+#include <string> // for std::string
 
 class vtkImageData;
 
@@ -34,8 +49,8 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
-   * Set the input image called @a name (a pass name, see vtkPathTracedVolumeMapper::GetPassName);
-   * nullptr removes it. Unknown names are an error.
+   * Set the input image called @a name (a pass name, see vtkPathTracedVolumeMapper::GetPassName,
+   * or "Features", "Guides", "BlendWeights"); nullptr removes it. Unknown names are an error.
    */
   void SetImage(const char* name, vtkImageData* image);
   vtkImageData* GetImage(const char* name);
@@ -43,11 +58,21 @@ public:
 
   ///@{
   /**
-   * The GuideNet .onnx model. Default: empty = vtkPTVGuideNet::GetDefaultModelFile().
+   * The GuideNet .onnx model. Default: empty = GetDefaultModelFile().
    */
   vtkSetFilePathMacro(ModelFile);
   vtkGetFilePathMacro(ModelFile);
   ///@}
+
+  /**
+   * The shipped model: $PTV_DATA_DIR/Models/guidenet.onnx when PTV_DATA_DIR is set, else
+   * Data/Models/guidenet.onnx in the plugin folder (beside libvtkPTVRendering.so: the build tree
+   * and an install alike).
+   */
+  static std::string GetDefaultModelFile();
+
+  /// Version of the ONNX Runtime library in use (e.g. "1.21.1").
+  static std::string GetRuntimeVersion();
 
   ///@{
   /**
@@ -60,10 +85,24 @@ public:
 
   ///@{
   /**
-   * Grid levels: 0 (default) = the model's (3 with the fixed guide); 1..3 uses the finest ones.
+   * Grid levels: 0 (default) = the model's (3 with the fixed guide, the component count of given
+   * "Guides"); 1..3 uses the model's finest ones (given guides must have as many components).
    */
   vtkSetClampMacro(NumberOfLevels, int, 0, 3);
   vtkGetMacro(NumberOfLevels, int);
+  ///@}
+
+  ///@{
+  /**
+   * Spatial cell size (pixels per cell along x and y) and range step (guide values per bin,
+   * ceil(256 / step) bins) of grid level @a level (0..2), each clamped to 1..256, for the fixed
+   * guide and given "Guides"; a model's own steps (its metadata) take precedence when the
+   * network runs. Defaults: 4, 8, 16 for both. An invalid level is an error (Get returns 0).
+   */
+  void SetSpatialStep(int level, int step);
+  int GetSpatialStep(int level);
+  void SetRangeStep(int level, int step);
+  int GetRangeStep(int level);
   ///@}
 
   ///@{
@@ -94,14 +133,26 @@ public:
   vtkBooleanMacro(PortableKernels, bool);
   ///@}
 
+  ///@{
+  /**
+   * Run the bilateral grid on the CUDA device (the same kernel body as the CPU; needs a build
+   * with PTV_ENABLE_CUDA and a device). When it cannot run, Execute() warns why and runs it on
+   * the CPU; GetLastGridOnCuda() tells where the last one ran. Default: off.
+   */
+  vtkSetMacro(UseCuda, bool);
+  vtkGetMacro(UseCuda, bool);
+  vtkBooleanMacro(UseCuda, bool);
+  bool GetLastGridOnCuda();
+  ///@}
+
   /// The instruction set the grid's CPU kernels used in the last Execute() ("AVX3", "AVX2",
   /// "SSE4", "SCALAR", ...; "" before the first).
   const char* GetKernelTarget();
 
   /**
    * Denoise the current images. Returns false (with an error naming the problem) when Radiance
-   * or Albedo is missing, sizes differ, arrays are not float or have the wrong component count,
-   * or a pass the model needs is missing.
+   * is missing, sizes differ, arrays are not float or have the wrong component count, a pass
+   * the features or the demodulation need is missing, or given Features/Guides do not fit.
    */
   bool Execute();
 
@@ -136,10 +187,14 @@ protected:
   double Clamp = 8.0;
   int NumberOfThreads = 0;
   bool PortableKernels = false;
+  bool UseCuda = false;
 
 private:
   vtkPTVDenoiser(const vtkPTVDenoiser&) = delete;
   void operator=(const vtkPTVDenoiser&) = delete;
+
+  void SetStep(int level, int step, int* steps, const char* what);
+  int GetStep(int level, const int* steps, const char* what);
 
   struct vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

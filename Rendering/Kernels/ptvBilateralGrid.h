@@ -3,7 +3,7 @@
  * @brief Per-cell / per-pixel kernels of the Neural Bilateral Grid denoiser (Meng et al. 2020):
  *        demodulate, outlier clamp, splat, slice, blend, re-modulate.
  *
- * This comment is THE definition of the semantics; vtkPTVBilateralGrid (C++, through
+ * This comment is THE definition of the semantics; vtkPTVDenoiser's grid (C++, through
  * ptvBilateralGridCpu) and Training/ptv_training/bilateral_grid.py (torch, differentiable) both
  * implement exactly this, in single precision, with the same float expressions, so they agree
  * to rounding of the splat sums.

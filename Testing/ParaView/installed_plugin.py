@@ -47,7 +47,7 @@ def main():
 
     package = os.path.realpath(os.path.dirname(pathtracedvolume.__file__))
     check(package.startswith(PLUGIN_DIR), "the Python package is the plugin folder's: %s" % package)
-    model = vtkPTVRendering.vtkPTVGuideNet.GetDefaultModelFile()
+    model = vtkPTVRendering.vtkPTVDenoiser.GetDefaultModelFile()
     check(os.path.realpath(model).startswith(PLUGIN_DIR) and os.path.isfile(model),
           "the default model is the plugin folder's: %s" % model)
     presets = vtkPTVRendering.vtkPTVTransferFunctionPreset.GetDefaultPresetDirectory()

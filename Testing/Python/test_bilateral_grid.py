@@ -3,8 +3,9 @@
 (a) ``ptv_training.bilateral_grid`` alone: a brute-force evaluation of the definitions in
     ``Rendering/Kernels/ptvBilateralGrid.h`` on tiny images, constant images come back, the
     output is finite for NaN/Inf/negative input, gradients reach the guides and weights.
-(b) ``vtkPTVBilateralGrid`` (C++) against the torch reference on random and structured inputs,
-    sizes 37x23, 64x64, 129x77 and 1x1, 1 and 3 levels, clamp on and off:
+(b) The C++ grid of ``vtkPTVDenoiser`` run alone (images "Guides" and "BlendWeights" given, no
+    network; "Albedo" given exactly when demodulating) against the torch reference on random and
+    structured inputs, sizes 37x23, 64x64, 129x77 and 1x1, 1 and 3 levels, clamp on and off:
     max |C++ - torch| <= 1e-4 * (max - min of the torch output), for the dispatched and the
     portable build of the C++ kernels.
 """
@@ -15,7 +16,7 @@ import itertools
 import math
 import sys
 from pathlib import Path
-from typing import Callable, Dict, Tuple
+from typing import Callable, Dict, List, Tuple
 
 import numpy as np
 import pytest
@@ -236,7 +237,7 @@ def test_invalid_shapes_raise() -> None:
 
 
 # ------------------------------------------------------------------------------------------
-# (b) C++ (vtkPTVBilateralGrid) against the torch reference
+# (b) C++ (vtkPTVDenoiser with given guides) against the torch reference
 # ------------------------------------------------------------------------------------------
 
 def vtk_image(array: np.ndarray):
@@ -254,28 +255,68 @@ def vtk_image(array: np.ndarray):
     return image
 
 
+def observe(obj) -> List[str]:
+    """Collect the object's error and warning messages (keeps them off the output window)."""
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+
+    messages: List[str] = []
+
+    @calldata_type(VTK_STRING)
+    def on_message(caller, event, calldata):
+        messages.append(f"{event}: {calldata}")
+
+    obj.AddObserver("ErrorEvent", on_message)
+    obj.AddObserver("WarningEvent", on_message)
+    return messages
+
+
+def grid_denoiser(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,
+                  weights: np.ndarray, clamp: float, threads: int = 2,
+                  demodulate: bool = True):
+    """A vtkPTVDenoiser set up to run the grid alone on the given guides and weights: Radiance,
+    Albedo (only when demodulating: the grid divides by it exactly when it is given), Guides,
+    BlendWeights (when L > 1). Returns the denoiser and its message list."""
+    from pathtracedvolume.vtkPTVRendering import vtkPTVDenoiser
+
+    levels = guides.shape[-1]
+    denoiser = vtkPTVDenoiser()
+    messages = observe(denoiser)
+    denoiser.SetNumberOfLevels(levels)
+    denoiser.SetClamp(clamp)
+    denoiser.SetNumberOfThreads(threads)
+    denoiser.SetImage("Radiance", vtk_image(radiance))
+    if demodulate:
+        denoiser.SetImage("Albedo", vtk_image(albedo))
+    denoiser.SetImage("Guides", vtk_image(guides))
+    if levels > 1:
+        denoiser.SetImage("BlendWeights", vtk_image(weights))
+    return denoiser, messages
+
+
+def denoised(denoiser, shape: Tuple[int, ...]) -> np.ndarray:
+    """The "Denoised" array of the denoiser's output as (H, W, 3) (a copy)."""
+    from vtkmodules.util import numpy_support
+
+    output = denoiser.GetOutput()
+    scalars = output.GetPointData().GetScalars()
+    assert scalars.GetName() == "Denoised"
+    assert output.GetDimensions() == (shape[1], shape[0], 1)
+    return numpy_support.vtk_to_numpy(scalars).reshape(shape).copy()
+
+
 def cpp_denoise(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,
                 weights: np.ndarray, clamp: float, threads: int = 2,
                 demodulate: bool = True) -> np.ndarray:
-    from pathtracedvolume.vtkPTVRendering import vtkPTVBilateralGrid
-    from vtkmodules.util import numpy_support
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
     levels = guides.shape[-1]
-    grid = vtkPTVBilateralGrid()
-    grid.SetNumberOfLevels(levels)
-    grid.SetClamp(clamp)
-    grid.SetDemodulate(demodulate)
-    grid.SetNumberOfThreads(threads)
-    output = vtkImageData()
-    ok = grid.Apply(vtk_image(radiance), vtk_image(albedo) if demodulate else None,
-                    vtk_image(guides),
-                    vtk_image(weights) if levels > 1 else None, output)
-    assert ok
-    scalars = output.GetPointData().GetScalars()
-    assert scalars.GetName() == "Denoised"
-    assert output.GetDimensions() == (radiance.shape[1], radiance.shape[0], 1)
-    return numpy_support.vtk_to_numpy(scalars).reshape(radiance.shape).copy()
+    denoiser, messages = grid_denoiser(radiance, albedo, guides, weights, clamp, threads,
+                                       demodulate)
+    assert denoiser.Execute(), messages
+    assert messages == []
+    assert not denoiser.GetNetworkActive()
+    assert denoiser.GetStatus() == f"given guides, {levels} levels" + (
+        "" if demodulate else ", no demodulation (no Albedo)")
+    return denoised(denoiser, radiance.shape)
 
 
 INPUTS: Dict[str, Callable[..., Tuple[np.ndarray, ...]]] = {
@@ -335,39 +376,83 @@ def test_cpp_threads_bit_identical() -> None:
 
 
 def test_cpp_custom_steps_match_torch() -> None:
-    from pathtracedvolume.vtkPTVRendering import vtkPTVBilateralGrid
-    from vtkmodules.util import numpy_support
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
     levels = ((3, 5), (6, 50), (1, 256))
     rng = np.random.default_rng(13)
     radiance, albedo, guides, weights = random_inputs(rng, 31, 19, 3)
     reference = bg.denoise(to_torch(radiance), to_torch(albedo), to_torch(guides),
                            to_torch(weights), levels, clamp=2.5)[0].permute(1, 2, 0).numpy()
-    grid = vtkPTVBilateralGrid()
+    denoiser, messages = grid_denoiser(radiance, albedo, guides, weights, clamp=2.5)
+    denoiser.SetNumberOfLevels(0)  # 0: the guides' component count
     for index, (ss, sr) in enumerate(levels):
-        grid.SetSpatialStep(index, ss)
-        grid.SetRangeStep(index, sr)
-        assert (grid.GetSpatialStep(index), grid.GetRangeStep(index)) == (ss, sr)
-    grid.SetClamp(2.5)
-    output = vtkImageData()
-    assert grid.Apply(vtk_image(radiance), vtk_image(albedo), vtk_image(guides),
-                      vtk_image(weights), output)
-    result = numpy_support.vtk_to_numpy(output.GetPointData().GetScalars()).reshape(
-        radiance.shape)
+        denoiser.SetSpatialStep(index, ss)
+        denoiser.SetRangeStep(index, sr)
+        assert (denoiser.GetSpatialStep(index), denoiser.GetRangeStep(index)) == (ss, sr)
+    assert denoiser.Execute(), messages
+    assert denoiser.GetStatus() == "given guides, 3 levels"
+    result = denoised(denoiser, radiance.shape)
     span = float(reference.max() - reference.min())
     assert np.abs(result - reference).max() <= PARITY_TOLERANCE * span
+    # Steps are clamped to 1..256; an invalid level is an error and reads as 0.
+    denoiser.SetSpatialStep(0, 0)
+    denoiser.SetRangeStep(1, 1000)
+    assert (denoiser.GetSpatialStep(0), denoiser.GetRangeStep(1)) == (1, 256)
+    assert messages == []
+    denoiser.SetSpatialStep(3, 4)
+    assert len(messages) == 1 and "SetSpatialStep: level 3 is out of range [0, 2]" in \
+        messages[0], messages
+    assert denoiser.GetRangeStep(-1) == 0
+    assert len(messages) == 2 and "GetRangeStep: level -1 is out of range" in messages[1]
 
 
 def test_cpp_defaults() -> None:
-    from pathtracedvolume.vtkPTVRendering import vtkPTVBilateralGrid
+    from pathtracedvolume.vtkPTVRendering import vtkPTVDenoiser
 
-    grid = vtkPTVBilateralGrid()
-    assert grid.GetNumberOfLevels() == 3
-    assert grid.GetClamp() == 8.0
-    assert grid.GetNumberOfThreads() == 0
-    assert [(grid.GetSpatialStep(i), grid.GetRangeStep(i)) for i in range(3)] == list(
+    denoiser = vtkPTVDenoiser()
+    assert denoiser.GetNumberOfLevels() == 0  # the guides' (or the model's) level count
+    assert denoiser.GetClamp() == 8.0
+    assert denoiser.GetNumberOfThreads() == 0
+    assert [(denoiser.GetSpatialStep(i), denoiser.GetRangeStep(i)) for i in range(3)] == list(
         bg.DEFAULT_LEVELS)
+
+
+def test_cpp_given_guides_bad_inputs() -> None:
+    """Guides/BlendWeights that do not fit are errors: Execute() fails with one message naming
+    the image, and the output keeps the last result."""
+    rng = np.random.default_rng(14)
+    radiance, albedo, guides, weights = random_inputs(rng, 9, 7, 3)
+    denoiser, messages = grid_denoiser(radiance, albedo, guides, weights, clamp=8.0)
+    assert denoiser.Execute(), messages
+    first = denoised(denoiser, radiance.shape)
+
+    def fails(*texts: str) -> None:
+        messages.clear()
+        assert not denoiser.Execute()
+        assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
+        for text in texts:
+            assert text in messages[0], (text, messages[0])
+        assert np.array_equal(denoised(denoiser, radiance.shape), first)
+
+    denoiser.SetNumberOfLevels(2)
+    fails("'Guides' has 3 components but NumberOfLevels is 2")
+    denoiser.SetNumberOfLevels(3)
+    denoiser.SetImage("BlendWeights", vtk_image(weights[..., :1]))
+    fails("Image 'BlendWeights' has 1 components; 3 levels of 'Guides' need 2.")
+    denoiser.SetImage("BlendWeights", None)
+    fails("3 levels of 'Guides' need 'BlendWeights' (2 components)")
+    denoiser.SetImage("BlendWeights", vtk_image(weights[1:]))
+    fails("Image 'BlendWeights' is 9 x 6 but the passes are 9 x 7.")
+    denoiser.SetImage("Guides", vtk_image(np.concatenate([guides, guides[..., :1]], axis=-1)))
+    denoiser.SetImage("BlendWeights",
+                      vtk_image(np.concatenate([weights, weights[..., :1]], axis=-1)))
+    denoiser.SetNumberOfLevels(0)
+    fails("'Guides' has 4 components; 1 to 3 (one per grid level) are possible")
+    denoiser.SetImage("BlendWeights", vtk_image(weights))
+    denoiser.SetImage("Guides", None)
+    fails("Image 'BlendWeights' is set without 'Guides'.")
+    denoiser.SetImage("Guides", vtk_image(guides))
+    messages.clear()
+    assert denoiser.Execute() and messages == []
+    assert np.array_equal(denoised(denoiser, radiance.shape), first)
 
 
 def test_clamp_limit_uses_lit_pixels_only() -> None:

@@ -1,9 +1,11 @@
 """GuideNet: the torch network (Training/ptv_training/guidenet.py), the feature channels
-(features.py), the ONNX export (export_onnx.py) and the C++ runner vtkPTVGuideNet (ONNX Runtime
-behind a PIMPL) against torch, plus the C++ side's handling of bad models and bad inputs.
+(features.py), the ONNX export (export_onnx.py) and the network inside the C++ denoiser
+vtkPTVDenoiser (ONNX Runtime behind a PIMPL; its input given as the image "Features", its
+output read back with GetGuides/GetBlendWeights) against torch, plus the C++ side's handling of
+bad models (a warning and the fixed guide, never a failure) and bad inputs (errors).
 
-The C++ tests need the built package on PYTHONPATH (ctest sets it); VTK errors they provoke are
-observed (ErrorEvent) so that nothing reaches the output window."""
+The C++ tests need the built package on PYTHONPATH (ctest sets it); VTK errors and warnings they
+provoke are observed (ErrorEvent, WarningEvent) so that nothing reaches the output window."""
 from __future__ import annotations
 
 import os
@@ -88,15 +90,40 @@ def to_image(feats: np.ndarray, name: str = "Features"):
     return image
 
 
-def from_image(image) -> np.ndarray:
-    """Output image's "GuidesWeights" -> (2L - 1, H, W)."""
+def pass_image(array: np.ndarray, name: str):
+    """(H, W) or (H, W, C) pass -> W x H x 1 vtkImageData (as to_image)."""
+    if array.ndim == 2:
+        array = array[:, :, None]
+    return to_image(np.ascontiguousarray(array.transpose(2, 0, 1)), name)
+
+
+def network_outputs(denoiser):
+    """The last Execute()'s guides (L, H, W), in [0, 255] (the network's output x the guide
+    scale 255), and blend weights (L - 1, H, W), from GetGuides / GetBlendWeights."""
+    from vtkmodules.util import numpy_support
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    result = []
+    for name, get in (("Guides", denoiser.GetGuides), ("BlendWeights", denoiser.GetBlendWeights)):
+        image = vtkImageData()
+        get(image)
+        w, h, _ = image.GetDimensions()
+        array = image.GetPointData().GetArray(name)
+        assert array is not None, name
+        a = numpy_support.vtk_to_numpy(array)
+        result.append(a.reshape(h, w, -1).transpose(2, 0, 1).copy())
+    return result[0], result[1]
+
+
+def denoised(denoiser) -> np.ndarray:
+    """The output's "Denoised" array as (H, W, 3) (a copy: the next Execute() reuses it)."""
     from vtkmodules.util import numpy_support
 
-    w, h, _ = image.GetDimensions()
-    array = image.GetPointData().GetArray("GuidesWeights")
-    assert array is not None
-    a = numpy_support.vtk_to_numpy(array)
-    return a.reshape(h, w, -1).transpose(2, 0, 1)
+    output = denoiser.GetOutput()
+    scalars = output.GetPointData().GetScalars()
+    assert scalars.GetName() == "Denoised" and scalars.GetNumberOfComponents() == 3
+    w, h, _ = output.GetDimensions()
+    return numpy_support.vtk_to_numpy(scalars).reshape(h, w, 3).copy()
 
 
 # --- network -------------------------------------------------------------------------------------
@@ -422,88 +449,155 @@ def test_onnxruntime_python_matches_torch(tmp_path: Path, w: int, h: int) -> Non
     assert diff <= TOL
 
 
-# --- C++ runner (vtkPTVGuideNet) -----------------------------------------------------------------
+# --- C++ network (vtkPTVDenoiser) ----------------------------------------------------------------
 NETS = {
     "paper10": (F.PAPER_10, {}),
     "volume14_h8": (F.VOLUME_FEATURES, {"hidden": 8}),
     "color3_single_conv_k3": (F.COLOR_ONLY, {"hidden": 0, "kernel": 3}),
 }
+PROVIDERS = ("CPUExecutionProvider", "CUDAExecutionProvider")
+
+
+def network_status(denoiser, path: Path) -> str:
+    """Check the status of a network run on given features (3 levels); return the provider."""
+    status = denoiser.GetStatus()
+    prefix = f"GuideNet {path} ("
+    suffix = "), given features, 3 levels"
+    assert status.startswith(prefix) and status.endswith(suffix), status
+    provider = status[len(prefix):-len(suffix)]
+    assert provider in PROVIDERS, status
+    return provider
+
+
+def set_frame(denoiser, passes, names=("Radiance", "Albedo")) -> None:
+    for name in names:
+        denoiser.SetImage(name, pass_image(passes[name], name))
 
 
 @pytest.mark.parametrize("net_name", list(NETS))
 def test_cxx_runner_matches_torch(ptv, tmp_path: Path, net_name: str) -> None:
+    """Given features: the C++ guides (x 255) and weights match torch; the model's grid steps
+    (4:4, 8:8, 16:16) are the ones used; the output has the Radiance image's geometry."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
     channels, kw = NETS[net_name]
     net = random_net(len(channels), 21, **kw)
     path = export(net, tmp_path / f"{net_name}.onnx", channels)
-    runner = ptv.vtkPTVGuideNet()
-    messages = observe(runner)
-    runner.SetNumberOfThreads(2)
-    runner.SetModelFile(str(path))
-    assert runner.Load(), messages
-    assert runner.IsLoaded()
-    assert runner.GetNumberOfInputChannels() == len(channels)
-    assert [runner.GetInputChannelName(i) for i in range(len(channels))] == channels
-    assert runner.GetInputChannelName(len(channels)) is None
-    assert runner.GetNumberOfLevels() == 3
-    assert runner.GetNumberOfOutputs() == 5
-    assert [(runner.GetSpatialStep(i), runner.GetRangeStep(i)) for i in range(3)] == \
-        [(4, 4), (8, 8), (16, 16)]
-    assert runner.GetSpatialStep(3) == 0
-    assert runner.GetGuideScale() == 255.0
-    assert runner.GetExecutionProvider() in ("CPUExecutionProvider", "CUDAExecutionProvider")
-    from vtkmodules.vtkCommonDataModel import vtkImageData
+    denoiser = ptv.vtkPTVDenoiser()
+    messages = observe(denoiser)
+    denoiser.SetNumberOfThreads(2)
+    denoiser.SetModelFile(str(path))
+    # Steps of its own that a running model overrides with those of its metadata.
+    for level in range(3):
+        denoiser.SetSpatialStep(level, 2)
+        denoiser.SetRangeStep(level, 3)
+    # The grid alone on the network's guides and weights, with the default steps (= the model's).
+    grid = ptv.vtkPTVDenoiser()
+    grid_messages = observe(grid)
+    grid.SetNumberOfThreads(2)
 
-    output = vtkImageData()
     for seed, (w, h) in enumerate(SIZES * 2):  # twice: buffers reused across sizes
         feats = random_features(len(channels), h, w, 100 + seed)
-        features = to_image(feats)
-        assert runner.Run(features, output), messages
+        passes, _, _ = synthetic_passes(h, w, 200 + seed)
+        set_frame(denoiser, passes)
+        denoiser.SetImage("Features", to_image(feats))
+        assert denoiser.Execute(), messages
+        assert denoiser.GetNetworkActive()
+        provider = network_status(denoiser, path)
+        output = denoiser.GetOutput()
         assert output.GetDimensions() == (w, h, 1)
-        assert output.GetSpacing() == (0.5, 2.0, 1.0)
-        assert output.GetPointData().GetScalars().GetName() == "GuidesWeights"
-        got = from_image(output)
-        diff = float(np.abs(got - torch_forward(net, feats)).max())
-        print(f"vtkPTVGuideNet ({net_name}, {runner.GetExecutionProvider()}) vs torch "
-              f"{w}x{h}: max |diff| = {diff:.3g}, {runner.GetLastRunTime():.2f} ms")
+        assert output.GetSpacing() == (0.5, 2.0, 1.0)  # the Radiance image's
+        result = denoised(denoiser)
+        assert np.isfinite(result).all()
+        guides, weights = network_outputs(denoiser)
+        assert guides.shape == (3, h, w) and weights.shape == (2, h, w)
+        expected = torch_forward(net, feats)
+        # The guides are the network's output times the guide scale 255: compared / 255 at TOL
+        # (an absolute 255 * TOL on the guides themselves).
+        diff = max(float(np.abs(guides / 255.0 - expected[:3]).max()),
+                   float(np.abs(weights - expected[3:]).max()))
+        print(f"vtkPTVDenoiser network ({net_name}, {provider}) vs torch {w}x{h}: "
+              f"max |diff| = {diff:.3g}, {denoiser.GetLastGuideNetTime():.2f} ms")
         assert diff <= TOL
-        assert runner.GetLastRunTime() > 0.0
-    assert messages == []
+        assert denoiser.GetLastGuideNetTime() > 0.0
+
+        set_frame(grid, passes)
+        guide_image, weight_image = vtkImageData(), vtkImageData()
+        denoiser.GetGuides(guide_image)
+        denoiser.GetBlendWeights(weight_image)
+        grid.SetImage("Guides", guide_image)
+        grid.SetImage("BlendWeights", weight_image)
+        assert grid.Execute(), grid_messages
+        assert grid.GetStatus() == "given guides, 3 levels"
+        assert np.array_equal(denoised(grid), result)
+
+    # The channels the model expects, in its order: named by the component-count error.
+    messages.clear()
+    denoiser.SetImage("Features", to_image(random_features(len(channels) + 1, h, w, 0)))
+    assert not denoiser.Execute()
+    assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
+    assert (f"'Features' has {len(channels) + 1} components but the model {path} expects "
+            f"{len(channels)} channels: {','.join(channels)}") in messages[0], messages[0]
+    assert grid_messages == []
 
 
 def test_cxx_runner_threads_and_reload(ptv, tmp_path: Path) -> None:
+    """The network's result does not depend on the thread count (the session is made again for
+    each); switching models and back reproduces the first model's result."""
     net = random_net(10, 4)
     path = export(net, tmp_path / "gn.onnx", F.PAPER_10)
+    other = export(random_net(10, 5), tmp_path / "other.onnx", F.PAPER_10)
     feats = random_features(10, 23, 37, 9)
-    runner = ptv.vtkPTVGuideNet()
-    messages = observe(runner)
-    runner.SetModelFile(str(path))
-    from vtkmodules.vtkCommonDataModel import vtkImageData
+    passes, _, _ = synthetic_passes(23, 37, 9)
+    denoiser = ptv.vtkPTVDenoiser()
+    messages = observe(denoiser)
+    denoiser.SetModelFile(str(path))
+    set_frame(denoiser, passes)
+    denoiser.SetImage("Features", to_image(feats))
 
     results = []
     for threads in (1, 2, 0):
-        runner.SetNumberOfThreads(threads)
-        output = vtkImageData()
-        assert runner.Run(to_image(feats), output), messages  # loads on demand
-        results.append(from_image(output).copy())
-    assert runner.GetNumberOfThreads() == 0
-    for r in results[1:]:
-        assert float(np.abs(r - results[0]).max()) <= TOL
+        denoiser.SetNumberOfThreads(threads)
+        assert denoiser.Execute(), messages  # loads on demand
+        assert denoiser.GetNetworkActive()
+        results.append((*network_outputs(denoiser), denoised(denoiser)))
+    assert denoiser.GetNumberOfThreads() == 0
+    expected = torch_forward(net, feats)
+    for guides, weights, result in results:
+        assert float(np.abs(guides / 255.0 - expected[:3]).max()) <= TOL
+        assert float(np.abs(weights - expected[3:]).max()) <= TOL
+    for guides, weights, result in results[1:]:
+        assert float(np.abs(guides - results[0][0]).max()) <= 255.0 * TOL
+        assert float(np.abs(weights - results[0][1]).max()) <= TOL
+        if np.array_equal(guides, results[0][0]) and np.array_equal(weights, results[0][1]):
+            assert np.array_equal(result, results[0][2])  # the grid: bit-identical
+    provider = network_status(denoiser, path)
+    assert provider in str(denoiser)
+
+    denoiser.SetModelFile(str(other))
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+    network_status(denoiser, other)
+    assert float(np.abs(network_outputs(denoiser)[0] - results[-1][0]).max()) > 1.0
+    denoiser.SetModelFile(str(path))
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+    guides, weights = network_outputs(denoiser)
+    assert np.array_equal(guides, results[-1][0]) and np.array_equal(weights, results[-1][1])
+    assert np.array_equal(denoised(denoiser), results[-1][2])
     assert messages == []
-    assert "CPUExecutionProvider" in str(runner) or "CUDAExecutionProvider" in str(runner)
 
 
 def test_default_model_file(ptv, monkeypatch) -> None:
     monkeypatch.delenv("PTV_DATA_DIR", raising=False)
     # Beside the library (the build tree's plugin folder), a copy of the shipped model; never the
     # source tree's (an install must not depend on it).
-    default = Path(ptv.vtkPTVGuideNet.GetDefaultModelFile())
+    default = Path(ptv.vtkPTVDenoiser.GetDefaultModelFile())
     assert default.parts[-3:] == ("Data", "Models", "guidenet.onnx")
     assert (default.parents[2] / "libvtkPTVRendering.so").exists(), default
     assert default.read_bytes() == (REPO / "Data" / "Models" / "guidenet.onnx").read_bytes()
     assert REPO / "Data" not in default.parents
     monkeypatch.setenv("PTV_DATA_DIR", "/somewhere/data")
-    assert ptv.vtkPTVGuideNet.GetDefaultModelFile() == "/somewhere/data/Models/guidenet.onnx"
-    assert ptv.vtkPTVGuideNet.GetRuntimeVersion().startswith("1.")
+    assert ptv.vtkPTVDenoiser.GetDefaultModelFile() == "/somewhere/data/Models/guidenet.onnx"
+    assert ptv.vtkPTVDenoiser.GetRuntimeVersion().startswith("1.")
 
 
 # --- bad models and inputs -----------------------------------------------------------------------
@@ -539,7 +633,8 @@ def bad_models(tmp_path: Path):
     empty.write_bytes(b"")
     ten = ",".join(F.PAPER_10)
     return good, {
-        "missing": (tmp_path / "does_not_exist.onnx", ["does_not_exist.onnx", "cannot open"]),
+        "missing": (tmp_path / "does_not_exist.onnx",
+                    ["does_not_exist.onnx", "no GuideNet model at"]),
         "truncated": (truncated, ["truncated.onnx", "ONNX Runtime could not load"]),
         "random_bytes": (garbage, ["random.onnx", "ONNX Runtime could not load"]),
         "empty": (empty, ["empty.onnx", "ONNX Runtime could not load"]),
@@ -561,74 +656,156 @@ def bad_models(tmp_path: Path):
     }
 
 
-def test_cxx_runner_rejects_bad_models(ptv, tmp_path: Path) -> None:
+def test_cxx_runner_rejects_bad_models(ptv, tmp_path: Path, monkeypatch) -> None:
+    """A model that cannot be used never fails Execute(): one warning saying why, then the
+    fixed guide (the same result as UseNetwork off); the next good model runs again."""
+    monkeypatch.delenv("PTV_DATA_DIR", raising=False)
     good, cases = bad_models(tmp_path)
-    runner = ptv.vtkPTVGuideNet()
-    messages = observe(runner)
-    runner.SetNumberOfThreads(1)
+    h, w = 4, 5
+    passes, _, _ = synthetic_passes(h, w, 0)
+    frame = ("Radiance", "Albedo", "Depth", "Normal")  # what the fixed guide needs
+
+    fixed = ptv.vtkPTVDenoiser()
+    fixed_messages = observe(fixed)
+    fixed.SetNumberOfThreads(1)
+    fixed.UseNetworkOff()
+    set_frame(fixed, passes, frame)
+    assert fixed.Execute(), fixed_messages
+    assert fixed_messages == []  # off on purpose: no warning
+    assert not fixed.GetNetworkActive()
+    assert fixed.GetStatus() == "fixed guide: UseNetwork is off"
+    expected_result = denoised(fixed)
+    assert network_outputs(fixed)[0].shape == (3, h, w)  # 3 levels
+
+    denoiser = ptv.vtkPTVDenoiser()
+    messages = observe(denoiser)
+    denoiser.SetNumberOfThreads(1)
+    set_frame(denoiser, passes, frame)
+    features = to_image(random_features(14, h, w, 0))
+    denoiser.SetImage("Features", features)
     for name, (path, expected) in cases.items():
-        runner.SetModelFile(str(good))
-        assert runner.Load(), messages
-        messages.clear()
-        runner.SetModelFile(str(path))
-        assert not runner.Load(), name
+        denoiser.SetModelFile(str(good))
+        assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+        assert messages == []
+        denoiser.SetModelFile(str(path))
+        assert denoiser.Execute(), (name, messages)
         assert len(messages) == 1, (name, messages)
         print(f"{name}: {messages[0].strip()}")
-        assert messages[0].startswith("ErrorEvent")
-        for text in expected:
+        assert messages[0].startswith("WarningEvent")
+        for text in expected + ["; denoising with a fixed guide (no network), the given "
+                                "'Features' unused"]:
             assert text in messages[0], (name, text, messages[0])
-        assert not runner.IsLoaded()
-        assert runner.GetNumberOfInputChannels() == 0
-        assert runner.GetExecutionProvider() is None
-        # Run tries to load the bad file again and fails the same way.
+        assert not denoiser.GetNetworkActive()
+        status = denoiser.GetStatus()
+        assert status.startswith("fixed guide: "), status
+        for text in expected:
+            assert text in status, (name, text, status)
+        assert np.array_equal(denoised(denoiser), expected_result), name
+        # Executing again with the same model: the same fallback, warned about once only.
         messages.clear()
-        from vtkmodules.vtkCommonDataModel import vtkImageData
-        assert not runner.Run(to_image(random_features(14, 4, 5, 0)), vtkImageData())
-        assert len(messages) == 1 and expected[0] in messages[0]
-    # Still alive and usable.
+        assert denoiser.Execute()
+        assert messages == [], (name, messages)
+        assert denoiser.GetStatus() == status and not denoiser.GetNetworkActive()
+        assert np.array_equal(denoised(denoiser), expected_result), name
+    # The same bad model after a good one is reported again.
+    path = cases["truncated"][0]
+    denoiser.SetModelFile(str(good))
+    assert denoiser.Execute() and denoiser.GetNetworkActive()
     messages.clear()
-    runner.SetModelFile(str(good))
-    assert runner.Load() and runner.GetNumberOfInputChannels() == 14
-    runner.SetModelFile(None)
-    assert not runner.Load()
-    assert "No ModelFile set" in messages[-1]
+    denoiser.SetModelFile(str(path))
+    assert denoiser.Execute() and len(messages) == 1, messages
+    assert "truncated.onnx" in messages[0] and messages[0].startswith("WarningEvent")
+    # A model file that appears (or changes) after a failed load is loaded at the next Execute,
+    # without setting ModelFile again.
+    later = tmp_path / "written_later.onnx"
+    denoiser.SetModelFile(str(later))
+    messages.clear()
+    assert denoiser.Execute() and not denoiser.GetNetworkActive()
+    assert len(messages) == 1 and "no GuideNet model at" in messages[0], messages
+    later.write_bytes(good.read_bytes())
+    messages.clear()
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), (messages, denoiser.GetStatus())
+    assert messages == []
+    # Without the passes the fixed guide needs, the error says why the fixed guide is in use.
+    denoiser.SetModelFile(str(path))
+    denoiser.SetImage("Depth", None)
+    messages.clear()
+    assert not denoiser.Execute()
+    assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
+    for text in ("the fixed guide (", "truncated.onnx", ") cannot run: ", "'Depth'"):
+        assert text in messages[0], (text, messages[0])
+    set_frame(denoiser, passes, frame)
+    messages.clear()
+    # Still alive and usable; no model file set = the shipped one (on features from the passes).
+    denoiser.SetModelFile(str(good))
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+    network_status(denoiser, good)
+    denoiser.SetModelFile(None)
+    assert denoiser.GetModelFile() is None
+    denoiser.SetImage("Features", None)
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+    assert denoiser.GetStatus().startswith(
+        f"GuideNet {ptv.vtkPTVDenoiser.GetDefaultModelFile()} ("), denoiser.GetStatus()
+    assert messages == []
 
 
 def test_cxx_runner_rejects_bad_inputs(ptv, tmp_path: Path) -> None:
+    """Inputs that do not fit are errors: Execute() fails with one message naming the image and
+    the problem, and the output keeps the last result."""
     from vtkmodules.util import numpy_support
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     path = export(random_net(10, 2), tmp_path / "gn.onnx", F.PAPER_10)
-    runner = ptv.vtkPTVGuideNet()
-    messages = observe(runner)
-    runner.SetModelFile(str(path))
-    assert runner.Load()
-    output = vtkImageData()
+    h, w = 6, 5
+    passes, _, _ = synthetic_passes(h, w, 0)
+    denoiser = ptv.vtkPTVDenoiser()
+    messages = observe(denoiser)
+    denoiser.SetModelFile(str(path))
+    set_frame(denoiser, passes)
+    good_features = to_image(random_features(10, h, w, 0))
+    denoiser.SetImage("Features", good_features)
+    assert denoiser.Execute() and denoiser.GetNetworkActive(), messages
+    first = denoised(denoiser)
 
-    def fails(features, *texts):
+    def fails(name, image, *texts):
+        denoiser.SetImage(name, image)
         messages.clear()
-        assert not runner.Run(features, output)
-        assert len(messages) == 1, messages
+        assert not denoiser.Execute()
+        assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
         for text in texts:
             assert text in messages[0], (text, messages[0])
+        assert np.array_equal(denoised(denoiser), first)
 
-    fails(to_image(random_features(14, 6, 5, 0)),
-          "'Features' has 14 components but the model", "expects 10 channels: color.r,")
-    double_image = to_image(random_features(10, 6, 5, 0))
+    fails("Features", to_image(random_features(14, h, w, 0)),
+          f"'Features' has 14 components but the model {path} expects 10 channels: color.r,")
+    double_image = to_image(random_features(10, h, w, 0))
     double_image.GetPointData().SetScalars(numpy_support.numpy_to_vtk(
-        np.zeros((30, 10), np.float64), deep=True))
-    fails(double_image, "is double, expected float")
-    volume = to_image(random_features(10, 6, 5, 0))
+        np.zeros((h * w, 10), np.float64), deep=True))
+    fails("Features", double_image, "Image 'Features' holds double values", "expected float")
+    volume = to_image(random_features(10, h, w, 0))
     volume.SetDimensions(5, 3, 2)
-    fails(volume, "must be W x H x 1")
+    fails("Features", volume, "Image 'Features' must be a W x H x 1 image", "got 5 x 3 x 2")
     no_array = vtkImageData()
-    no_array.SetDimensions(5, 6, 1)
-    fails(no_array, "no active scalars")
-    same = to_image(random_features(10, 6, 5, 0))
+    no_array.SetDimensions(w, h, 1)
+    fails("Features", no_array, "Image 'Features' has no point array")
+    fails("Features", to_image(random_features(10, h + 1, w, 0)),
+          f"'Features' is {w} x {h + 1} but the model runs at 1/1 resolution: expected "
+          f"{w} x {h} for a {w} x {h} frame")
+    denoiser.SetImage("Features", good_features)
+    # The passes.
+    fails("Albedo", pass_image(passes["Albedo"][1:], "Albedo"),
+          f"Image 'Albedo' is {w} x {h - 1} but the other images are {w} x {h}.")
+    fails("Albedo", pass_image(passes["Albedo"][:, :, :2], "Albedo"),
+          "Image 'Albedo' has 2 components; the pass has 3.")
+    fails("Albedo", None, "the model divides the radiance by the Albedo pass, which is missing")
+    denoiser.SetImage("Albedo", pass_image(passes["Albedo"], "Albedo"))
+    fails("Radiance", None, "No Radiance image")
+    denoiser.SetImage("Radiance", pass_image(passes["Radiance"], "Radiance"))
     messages.clear()
-    assert not runner.Run(same, same)
-    assert len(messages) == 1 and "distinct" in messages[0]
+    denoiser.SetImage("Bogus", good_features)
+    assert len(messages) == 1 and "Unknown image name 'Bogus'" in messages[0], messages
     # And a good run afterwards.
     messages.clear()
-    assert runner.Run(to_image(random_features(10, 6, 5, 0)), output)
+    assert denoiser.Execute() and denoiser.GetNetworkActive()
+    assert np.array_equal(denoised(denoiser), first)
     assert messages == []

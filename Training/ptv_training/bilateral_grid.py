@@ -3,8 +3,8 @@
 The semantics (sanitising, demodulation, outlier clamp, grid sizes, tent weights, empty
 cells, slice renormalisation, blend, re-modulation) are defined once, in the comment at the top
 of ``Rendering/Kernels/ptvBilateralGrid.h``; this module implements exactly that, with the same
-single-precision expressions as the C++ class ``vtkPTVBilateralGrid``, so both agree up to the
-summation order of the splat. In short, per image::
+single-precision expressions as the C++ grid that ``vtkPTVDenoiser`` runs, so both agree up to
+the summation order of the splat. In short, per image::
 
     D = sanitize(R) / (sanitize(A) + 0.01)            # NaN/Inf/negative -> 0; D = sanitize(R)
                                                       # without albedo (no demodulation)

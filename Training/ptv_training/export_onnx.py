@@ -1,5 +1,5 @@
 """Export a :class:`~ptv_training.guidenet.GuideNet` to ONNX ("guidenet-v1") for the C++ side
-(``vtkPTVGuideNet``, ONNX Runtime).
+(``vtkPTVDenoiser``, ONNX Runtime).
 
 Contract: opset 17; the file holds ``GuideNet.core`` (the conv stack + sigmoid), which runs at
 the reduced resolution h = ceil(H / s), w = ceil(W / s) of a guide stride s; one input
