@@ -17,8 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
 
 from pathtracedvolume.atomic import atomic_path  # noqa: E402
-from pathtracedvolume.datasets import dataset_path  # noqa: E402
-from pathtracedvolume.presets import apply_preset, find_preset  # noqa: E402
+from pathtracedvolume.scene import BACKGROUND, Scene  # noqa: E402
 from tqdm import tqdm  # noqa: E402
 
 DATASETS = ("head", "stent", "concrete")
@@ -32,7 +31,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                         help="preset name (default: '<Dataset> Two-Band (paper)')")
     parser.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"),
                         help="image size in pixels (default: 512 512)")
-    parser.add_argument("--background", type=float, nargs=3, default=(0.32, 0.34, 0.43),
+    parser.add_argument("--background", type=float, nargs=3, default=BACKGROUND,
                         metavar=("R", "G", "B"),
                         help="background = environment light colour (default: ParaView's)")
     parser.add_argument("--azimuth", type=float, default=0.0, help="camera azimuth in degrees")
@@ -55,57 +54,21 @@ def render(args: argparse.Namespace) -> float:
     """Render and write the PNG (and passes); returns the render time in seconds."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
     from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter
-    from vtkmodules.vtkRenderingCore import (vtkRenderer, vtkRenderWindow, vtkVolume,
-                                             vtkVolumeProperty, vtkWindowToImageFilter)
-    from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL factories)
-    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
-    reader = vtkXMLImageDataReader()
-    reader.SetFileName(str(dataset_path(args.dataset)))
-    reader.Update()
-
-    prop = vtkVolumeProperty()
-    preset_name = args.preset or f"{args.dataset.capitalize()} Two-Band (paper)"
-    apply_preset(find_preset(preset_name), prop)
-    prop.SetInterpolationTypeToLinear()
-    prop.ShadeOn()
-
-    if args.mapper == "stock":
-        mapper = vtkFixedPointVolumeRayCastMapper()
-    else:
-        from pathtracedvolume import vtkPathTracedVolumeMapper
-        mapper = vtkPathTracedVolumeMapper()
-        mapper.ConvergeStillRendersOff()  # --spp frames, one per Render
+    # pathtracedvolume.scene: the dataset, its preset, and the camera looking at the face.
+    scene = Scene.of_dataset(args.dataset, tuple(args.size), preset=args.preset,
+                             azimuth=args.azimuth, elevation=args.elevation,
+                             mapper=args.mapper, denoise=not args.no_denoise,
+                             background=args.background)
+    mapper = scene.mapper
+    if args.mapper == "pathtraced":
         mapper.SetSeed(args.seed)
         mapper.SetMaximumAccumulatedFrames(max(1, args.spp))
-        mapper.SetDenoise(not args.no_denoise)
-    mapper.SetInputConnection(reader.GetOutputPort())
-    volume = vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
-
-    renderer = vtkRenderer()
-    renderer.AddVolume(volume)
-    renderer.SetBackground(*args.background)  # also the path tracer's environment light
-    camera = renderer.GetActiveCamera()
-    # Look at the face: the CT's y axis runs front to back, z runs up.
-    camera.SetPosition(0, -1, 0)
-    camera.SetFocalPoint(0, 0, 0)
-    camera.SetViewUp(0, 0, 1)
-    camera.Azimuth(args.azimuth)
-    camera.Elevation(args.elevation)
-    renderer.ResetCamera()
-
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(*args.size)
-    window.AddRenderer(renderer)
     frames = max(1, args.spp) if args.mapper == "pathtraced" else 1
     start = time.perf_counter()
     for _ in tqdm(range(frames), desc="frames", unit="frame", disable=frames < 8):
-        window.Render()
+        scene.render()
     seconds = time.perf_counter() - start
 
     if args.passes_dir is not None and args.mapper == "pathtraced":
@@ -124,13 +87,10 @@ def render(args: argparse.Namespace) -> float:
                 raise OSError(f"cannot write {tmp_pass} (pass {name})")
             tmp_pass.replace(target)
 
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
     with atomic_path(args.output, suffix=".tmp.png") as tmp:
         writer = vtkPNGWriter()
         writer.SetFileName(str(tmp))
-        writer.SetInputConnection(grab.GetOutputPort())
+        writer.SetInputData(scene.screenshot())
         writer.Write()
         if writer.GetErrorCode() != 0 or tmp.stat().st_size == 0:  # Write returns nothing
             raise OSError(f"cannot write {tmp} (VTK error code {writer.GetErrorCode()})")

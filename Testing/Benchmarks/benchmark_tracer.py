@@ -40,43 +40,21 @@ def parse_args() -> argparse.Namespace:
 
 
 def build_scene(dataset: str, size: int):
-    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
-    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
-    from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-    import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+    """The dataset (paper preset, pathtracedvolume.scene's camera at azimuth 30) with the stock
+    mapper on the volume, and our mapper (one frame per Render, Denoise off: the tracer against
+    the stock mapper; the denoiser has its own benchmark) on the same data to swap in."""
     from pathtracedvolume import vtkPathTracedVolumeMapper
-    from pathtracedvolume.datasets import dataset_path
+    from pathtracedvolume.scene import Scene
 
-    reader = vtkXMLImageDataReader()
-    reader.SetFileName(str(dataset_path(dataset)))
-    reader.Update()
-    prop = pb.make_property(pb.paper_preset(dataset))
-
-    ours = vtkPathTracedVolumeMapper()
-    ours.ConvergeStillRendersOff()  # one frame per Render: the benchmark times frames
-    ours.DenoiseOff()  # the tracer against the stock mapper; the denoiser has its own benchmark
-    stock = vtkFixedPointVolumeRayCastMapper()
+    scene = Scene.of_dataset(dataset, (size, size), azimuth=30, mapper="stock",
+                             background=(0.3, 0.3, 0.35))
+    stock = scene.mapper
     stock.SetAutoAdjustSampleDistances(0)  # full quality, as ours
-    for mapper in (ours, stock):
-        mapper.SetInputConnection(reader.GetOutputPort())
-    volume = vtkVolume()
-    volume.SetProperty(prop)
-    renderer = vtkRenderer()
-    renderer.AddVolume(volume)
-    renderer.SetBackground(0.3, 0.3, 0.35)
-    camera = renderer.GetActiveCamera()
-    camera.SetPosition(0, -1, 0)
-    camera.SetFocalPoint(0, 0, 0)
-    camera.SetViewUp(0, 0, 1)
-    camera.Azimuth(30)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(size, size)
-    window.AddRenderer(renderer)
-    volume.SetMapper(stock)
-    renderer.ResetCamera()
-    return window, volume, ours, stock
+    ours = vtkPathTracedVolumeMapper()
+    ours.ConvergeStillRendersOff()
+    ours.DenoiseOff()
+    ours.SetInputData(stock.GetInput())
+    return scene.window, scene.volume, ours, stock
 
 
 def median_ms(fn, repeats: int) -> float:

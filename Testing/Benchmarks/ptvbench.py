@@ -1,5 +1,6 @@
-"""Shared pieces of the benchmarks: scene set-up, pass capture, our denoiser and OIDN on the same
-passes, the tone map and metrics of docs/measuring.md, and median timing.
+"""Shared pieces of the benchmarks: their scene (``pathtracedvolume.scene``), our denoiser and OIDN
+on the same passes, the tone map and metrics of docs/measuring.md (``pathtracedvolume.metrics``),
+and timing (median of repeats, interleaved rounds).
 
 Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb) for rendering;
 the metrics and timing helpers are plain NumPy. VTK is imported lazily, so importing this module
@@ -19,11 +20,12 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT / "Python") not in sys.path:
     sys.path.append(str(ROOT / "Python"))  # after PYTHONPATH: a built package wins
 
+from pathtracedvolume import scene  # noqa: E402 (the project's scene set-up)
 from pathtracedvolume.metrics import quality, tonemap  # noqa: E402,F401 (the project's metrics)
 
 PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
           "ScatterDepth", "ScatterPosition", "ScatterNormal"]
-BACKGROUND = (0.32, 0.34, 0.43)
+BACKGROUND = scene.BACKGROUND
 STAGES = ("features", "guidenet", "splat", "slice")
 SHIPPED_MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"
 
@@ -73,114 +75,42 @@ def paired_ratio(numerator: Sequence[float], denominator: Sequence[float]) -> fl
     return statistics.median(a / b for a, b in zip(numerator, denominator))
 
 
-# --- scenes -------------------------------------------------------------------------------
-def load_dataset(name: str) -> Any:
-    """The dataset's ``.vti`` (``pathtracedvolume.datasets``) as an updated vtkImageData."""
-    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
-    from pathtracedvolume.datasets import dataset_path
-
-    reader = vtkXMLImageDataReader()
-    reader.SetFileName(str(dataset_path(name)))
-    reader.Update()
-    return reader.GetOutput()
+# --- scenes (pathtracedvolume.scene) --------------------------------------------------------
+load_dataset = scene.load_dataset
+paper_preset = scene.paper_preset
+make_property = scene.volume_property
 
 
-def paper_preset(dataset: str) -> Dict[str, Any]:
-    """The dataset's "<Dataset> Two-Band (paper)" preset."""
-    from pathtracedvolume.presets import find_preset
-    return find_preset(f"{dataset.capitalize()} Two-Band (paper)")
-
-
-def make_property(preset: Mapping[str, Any], shade: bool = True) -> Any:
-    """A vtkVolumeProperty with the preset's functions, linear interpolation, shading on."""
-    from vtkmodules.vtkRenderingCore import vtkVolumeProperty
-    from pathtracedvolume.presets import apply_preset
-
-    prop = vtkVolumeProperty()
-    apply_preset(preset, prop)
-    prop.SetShade(int(shade))
-    prop.SetInterpolationTypeToLinear()
-    return prop
-
-
-class BenchScene:
-    """One volume under vtkPathTracedVolumeMapper (Denoise off) in an offscreen window.
-
-    The camera starts as in ``scripts/render.py``: from -y with +z up, then ``azimuth`` /
-    ``elevation`` (degrees) and ResetCamera; :meth:`orbit` sets another view. The key light is
-    the mapper's default (a point light above the volume) times ``light_intensity``.
-    """
+class BenchScene(scene.Scene):
+    """:class:`pathtracedvolume.scene.Scene` as the benchmarks use it: path traced, Denoise
+    off (they denoise the passes themselves), a view at ``azimuth`` 30 and ``elevation`` 10 by
+    default, the mapper's default key light times ``light_intensity``; :meth:`render` starts a
+    fresh accumulation with a seed."""
 
     def __init__(self, volume: Any, prop: Any, size: Tuple[int, int] = (256, 256),
                  azimuth: float = 30.0, elevation: float = 10.0, threads: int = 0,
                  light_intensity: float = 1.0, background: Sequence[float] = BACKGROUND
                  ) -> None:
-        from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
-        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
-        from pathtracedvolume import vtkPathTracedVolumeMapper
-
-        self.size = (int(size[0]), int(size[1]))
-        self.mapper = vtkPathTracedVolumeMapper()
-        self.mapper.ConvergeStillRendersOff()  # render() drives the accumulation frame by frame
-        if hasattr(volume, "GetOutputPort"):
-            self.mapper.SetInputConnection(volume.GetOutputPort())
-        else:
-            self.mapper.SetInputData(volume)
-        self.mapper.DenoiseOff()
-        self.mapper.SetNumberOfThreads(int(threads))
+        super().__init__(volume, prop, size, azimuth, elevation, denoise=False,
+                         threads=threads, background=background)
         self.mapper.SetLightIntensity(float(light_intensity))
-        self.volume = vtkVolume()
-        self.volume.SetMapper(self.mapper)
-        self.volume.SetProperty(prop)
-        self.prop = prop
-        self.renderer = vtkRenderer()
-        self.renderer.AddVolume(self.volume)
-        self.renderer.SetBackground(*background)
-        self.window = vtkRenderWindow()
-        self.window.SetOffScreenRendering(1)
-        self.window.SetSize(*self.size)
-        self.window.AddRenderer(self.renderer)
-        self.orbit(azimuth, elevation)
 
     def orbit(self, azimuth: float, elevation: float = 10.0, dolly: float = 1.0) -> None:
-        """Camera from -y (up +z), rotated by ``azimuth`` then ``elevation``, reset to fit."""
-        camera = self.renderer.GetActiveCamera()
-        camera.SetPosition(0, -1, 0)
-        camera.SetFocalPoint(0, 0, 0)
-        camera.SetViewUp(0, 0, 1)
-        camera.Azimuth(float(azimuth))
-        camera.Elevation(float(elevation))
-        camera.OrthogonalizeViewUp()
-        self.renderer.ResetCamera()
-        camera.Dolly(float(dolly))
-        self.renderer.ResetCameraClippingRange()
+        """Another view (:func:`pathtracedvolume.scene.place_camera`)."""
+        self.view(azimuth, elevation, dolly)
 
-    def render(self, seed: int, frames: int = 1,
+    def render(self, seed: int, frames: int = 1,  # type: ignore[override]
                on_frame: Optional[Callable[[int], None]] = None) -> list:
         """Start a fresh accumulation with ``seed`` and render ``frames`` 1-spp frames; returns
         each frame's trace milliseconds; ``on_frame(k)`` after frame k (1-based)."""
         self.mapper.SetSeed(int(seed))
         self.mapper.SetMaximumAccumulatedFrames(max(int(frames), 1))
         self.mapper.ResetAccumulation()
-        times = []
-        for k in range(1, frames + 1):
-            self.window.Render()
-            times.append(float(self.mapper.GetLastTraceTime()))
-            if on_frame is not None:
-                on_frame(k)
-        return times
+        return super().render(frames, on_frame)
 
     def grab(self, name: str = "Radiance") -> np.ndarray:
         """Pass ``name`` of the current accumulation as (H, W, C) float32, bottom row first."""
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-        from vtkmodules.vtkCommonDataModel import vtkImageData
-
-        image = vtkImageData()
-        if not self.mapper.GetPass(name, image):
-            raise RuntimeError(f"no pass {name!r}")
-        w, h, _ = image.GetDimensions()
-        return np.array(vtk_to_numpy(image.GetPointData().GetArray(name)),
-                        dtype=np.float32).reshape(h, w, -1)
+        return self.get_pass(name)
 
     def passes(self) -> Passes:
         """Every pass of the current accumulation."""
@@ -228,20 +158,6 @@ def model_levels(path: Union[str, Path] = "") -> int:
     return len(props["ptv.levels"].split(","))
 
 
-def _image(array: np.ndarray, name: str) -> Any:
-    from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
-    a = np.ascontiguousarray(array, dtype=np.float32)
-    h, w = a.shape[:2]
-    arr = numpy_to_vtk(a.reshape(h * w, -1), deep=1)
-    arr.SetName(name)
-    image = vtkImageData()
-    image.SetDimensions(w, h, 1)
-    image.GetPointData().SetScalars(arr)
-    return image
-
-
 class Ours:
     """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels."""
 
@@ -256,7 +172,7 @@ class Ours:
         self._keep: list = []
 
     def set_passes(self, passes: Passes) -> None:
-        self._keep = [_image(passes[name], name) for name in PASSES]
+        self._keep = [scene.numpy_to_image(passes[name], name) for name in PASSES]
         for name, image in zip(PASSES, self._keep):
             self.den.SetImage(name, image)
 

@@ -44,10 +44,10 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/gen
     __package__ = "ptv_training"
 
 from pathtracedvolume.atomic import write_text  # noqa: E402
+from pathtracedvolume.scene import BACKGROUND  # noqa: E402
 
 from . import exr_io  # noqa: E402
-from .scene import (BACKGROUND, Scene, anchor_groups, ensure_paths,  # noqa: E402
-                    sample_threshold_shift)
+from .scene import Scene, anchor_groups, ensure_paths, sample_threshold_shift  # noqa: E402
 
 ensure_paths()
 

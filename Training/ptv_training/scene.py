@@ -1,8 +1,9 @@
 """A path-traced scene from a plain parameter dict (the training views, the tests).
 
-Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb). The camera
-follows ``scripts/render.py``: position (0, -1, 0), focal point (0, 0, 0), view-up (0, 0, 1),
-then Azimuth / Elevation, ResetCamera, and a Dolly by ``distance_factor`` (> 1 = closer).
+Needs the compiled package (``PYTHONPATH=<build>/python``) and a display (Xvfb). The volume,
+its property, the camera convention and the passes come from ``pathtracedvolume.scene`` (the
+camera: ``place_camera`` with azimuth, elevation and a dolly by ``distance_factor``); this module
+adds what the training views vary: jittered transfer functions and a scene light.
 
 View parameters (JSON-friendly)::
 
@@ -24,7 +25,6 @@ from typing import Any, Dict, List, Mapping, Sequence, Tuple
 
 import numpy as np
 
-BACKGROUND = (0.32, 0.34, 0.43)
 LIGHT_DISTANCE = 1.5  # bounding-box diagonals from the centre
 
 
@@ -104,15 +104,12 @@ class Scene:
     def __init__(self, dataset: str, size: Tuple[int, int] = (128, 128),
                  threads: int = 0) -> None:
         ensure_paths()
-        from pathtracedvolume.datasets import dataset_path
-        from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+        from pathtracedvolume.scene import load_dataset
         from vtkmodules.vtkRenderingCore import vtkRenderWindow
         import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 
         self.dataset = dataset
-        self.reader = vtkXMLImageDataReader()
-        self.reader.SetFileName(str(dataset_path(dataset)))
-        self.reader.Update()
+        self.data = load_dataset(dataset)
         self.window = vtkRenderWindow()
         self.window.SetOffScreenRendering(1)
         self.window.SetSize(*size)
@@ -126,9 +123,9 @@ class Scene:
                  max_frames: int = 1024) -> Any:
         """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper."""
         from pathtracedvolume import vtkPathTracedVolumeMapper
-        from pathtracedvolume.presets import apply_preset, find_preset
-        from vtkmodules.vtkRenderingCore import (vtkLight, vtkRenderer, vtkVolume,
-                                                 vtkVolumeProperty)
+        from pathtracedvolume.presets import find_preset
+        from pathtracedvolume.scene import BACKGROUND, place_camera, volume_property
+        from vtkmodules.vtkRenderingCore import vtkLight, vtkRenderer, vtkVolume
 
         if view["dataset"] != self.dataset:
             raise ValueError(f"view of {view['dataset']!r} on a {self.dataset!r} scene")
@@ -137,14 +134,11 @@ class Scene:
         if shift is not None or view.get("opacity_scale", 1.0) != 1.0:
             preset = jitter_preset(preset, shift or [0.0] * len(anchor_groups(preset)),
                                    view.get("opacity_scale", 1.0))
-        prop = vtkVolumeProperty()
-        apply_preset(preset, prop)
-        prop.SetInterpolationTypeToLinear()
-        prop.ShadeOn()
+        prop = volume_property(preset)
 
         mapper = vtkPathTracedVolumeMapper()
         mapper.ConvergeStillRendersOff()  # the data's sample counts are set frame by frame
-        mapper.SetInputConnection(self.reader.GetOutputPort())
+        mapper.SetInputData(self.data)
         mapper.SetSeed(int(seed))
         mapper.SetMaximumAccumulatedFrames(int(max_frames))
         mapper.SetDenoise(bool(denoise))
@@ -157,16 +151,8 @@ class Scene:
         renderer = vtkRenderer()
         renderer.AddVolume(volume)
         renderer.SetBackground(*view.get("background", BACKGROUND))
-        camera = renderer.GetActiveCamera()
-        camera.SetPosition(0, -1, 0)
-        camera.SetFocalPoint(0, 0, 0)
-        camera.SetViewUp(0, 0, 1)
-        camera.Azimuth(float(view.get("azimuth", 0.0)))
-        camera.Elevation(float(view.get("elevation", 0.0)))
-        camera.OrthogonalizeViewUp()
-        renderer.ResetCamera()
-        camera.Dolly(float(view.get("distance_factor", 1.0)))
-        renderer.ResetCameraClippingRange()
+        camera = place_camera(renderer, view.get("azimuth", 0.0), view.get("elevation", 0.0),
+                              view.get("distance_factor", 1.0))
 
         light_spec = view.get("light")
         if light_spec is not None:
@@ -217,33 +203,16 @@ class Scene:
 
 
 def get_pass(mapper: Any, name: str) -> np.ndarray:
-    """``mapper.GetPass(name)`` as ``(H, W, C)`` float32, bottom row first."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
-    image = vtkImageData()
-    if not mapper.GetPass(name, image):
-        raise RuntimeError(f"mapper has no pass {name!r}")
-    w, h, _ = image.GetDimensions()
-    a = vtk_to_numpy(image.GetPointData().GetArray(name))
-    return np.array(a, dtype=np.float32).reshape(h, w, -1)
+    """``mapper.GetPass(name)`` as ``(H, W, C)`` float32, bottom row first
+    (``pathtracedvolume.scene.get_pass``)."""
+    ensure_paths()
+    from pathtracedvolume.scene import get_pass as scene_get_pass
+    return scene_get_pass(mapper, name)
 
 
 def numpy_to_image(array: np.ndarray, name: str) -> Any:
     """``(H, W[, C])`` float32 (bottom row first) -> a W x H x 1 vtkImageData with point array
-    ``name`` (what ``vtkPTVDenoiser.SetImage`` takes)."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
-    a = np.asarray(array, dtype=np.float32)
-    if a.ndim == 2:
-        a = a[:, :, None]
-    h, w, c = a.shape
-    image = vtkImageData()
-    image.SetDimensions(w, h, 1)
-    flat = np.ascontiguousarray(a.reshape(h * w, c) if c > 1 else a.reshape(h * w))
-    arr = numpy_to_vtk(flat, deep=True)
-    arr.SetName(name)
-    image.GetPointData().AddArray(arr)
-    image.GetPointData().SetActiveScalars(name)
-    return image
+    ``name`` (``pathtracedvolume.scene.numpy_to_image``)."""
+    ensure_paths()
+    from pathtracedvolume.scene import numpy_to_image as scene_numpy_to_image
+    return scene_numpy_to_image(array, name)
