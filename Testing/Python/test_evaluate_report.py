@@ -6,6 +6,9 @@ Checks: exit status 0 without VTK errors/warnings; report.md has every section a
 it links exists; every CSV parses with a header and rows of the same width; results.json loads;
 Table 1 has every method for every dataset with finite PSNR; every stress case ran and each
 output image is finite. No timing or quality thresholds (tiny images: only correctness).
+``--render-only`` rewrites report.md, every chart, CSV and results.json byte for byte from
+results.json alone, without a display and without importing VTK; given a results.json of the
+older layout it stops with a message naming the missing keys.
 Needs a display (ctest runs under Xvfb) and the built package on PYTHONPATH.
 """
 from __future__ import annotations
@@ -19,6 +22,7 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+from typing import Dict
 
 import pytest
 
@@ -49,7 +53,7 @@ def test_help() -> None:
     run = subprocess.run([sys.executable, str(SCRIPT), "--help"], capture_output=True, text=True,
                          timeout=120, cwd=ROOT)
     assert run.returncode == 0
-    for option in ("--size", "--views", "--ref-spp", "--out", "--quick"):
+    for option in ("--size", "--views", "--ref-spp", "--out", "--quick", "--render-only"):
         assert option in run.stdout
 
 
@@ -100,3 +104,75 @@ def test_stress_outputs_finite(report: Path) -> None:
     for r in rows:
         for key in ("noisy finite", "ours finite", "OIDN fast finite"):
             assert r[key] == "True", (r["case"], key)
+
+
+# --render-only: run the script's main() in a fresh interpreter without a display and report
+# whether VTK (or the compiled package) was imported.
+RENDER_ONLY = """
+import runpy, sys
+sys.argv = [sys.argv[1], "--render-only", "--out", sys.argv[2]]
+try:
+    runpy.run_path(sys.argv[0], run_name="__main__")
+except SystemExit as exc:
+    code = exc.code
+else:
+    code = 0
+loaded = sorted(m for m in sys.modules
+                if m.startswith("vtkmodules") or m.startswith("pathtracedvolume.vtk"))
+print("VTK modules imported:", loaded, file=sys.stderr)
+sys.exit(code)
+"""
+
+
+def render_only(out: Path) -> subprocess.CompletedProcess:
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    return subprocess.run([sys.executable, "-c", RENDER_ONLY, str(SCRIPT), str(out)],
+                          capture_output=True, text=True, timeout=300, cwd=ROOT, env=env)
+
+
+def files_of(folder: Path) -> Dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file()}
+
+
+@pytest.fixture
+def copy_of(report: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A copy of the quick report with only results.json and the galleries."""
+    base = os.environ.get("PTV_TEST_TEMP")
+    out = (Path(base) if base else tmp_path_factory.mktemp("report")) / "evaluate_report_render"
+    shutil.rmtree(out, ignore_errors=True)
+    out.mkdir(parents=True)
+    shutil.copy2(report / "results.json", out / "results.json")
+    shutil.copytree(report / "gallery", out / "gallery")
+    return out
+
+
+def test_render_only_reproduces_the_report(report: Path, copy_of: Path) -> None:
+    """Every file of the measuring run (report.md, charts, CSVs, timing_scaling.json,
+    results.json) comes back byte for byte: the header's date, duration, command and cache
+    counts are stored in results.json, so no line differs."""
+    run = render_only(copy_of)
+    log = (run.stdout + run.stderr)[-4000:]
+    assert run.returncode == 0, log
+    assert "Traceback" not in log, log
+    assert "VTK modules imported: []" in run.stderr, log
+    want, got = files_of(report), files_of(copy_of)
+    assert sorted(got) == sorted(want)
+    assert [name for name in want if got[name] != want[name]] == []
+
+
+def test_render_only_refuses_an_old_results_json(report: Path, copy_of: Path) -> None:
+    """A results.json of the older layout (no per-view rows, chart rows, orbit series, training
+    texts, temporal-reuse input, run facts) stops with the missing keys named, writes nothing."""
+    results = json.loads((report / "results.json").read_text())
+    for key in ("table1_per_view", "psnr_time", "training_tables", "run"):
+        del results[key]
+    del results["temporal"]["orbit_tpsnr"]
+    (copy_of / "results.json").write_text(json.dumps(results))
+    run = render_only(copy_of)
+    assert run.returncode == 2, run.stdout + run.stderr
+    assert "Traceback" not in run.stderr, run.stderr
+    for key in ("table1_per_view", "psnr_time", "training_tables", "run.generated_utc",
+                "temporal.orbit_tpsnr"):
+        assert key in run.stderr, run.stderr
+    assert not (copy_of / "report.md").exists()
