@@ -148,10 +148,12 @@ std::vector<GridInfo> ListOpenFile(openvdb::io::File& vdb)
 }
 
 //------------------------------------------------------------------------------
-// Find @a gridName in @a grids and check that it is a scalar grid.
-bool FindScalarGrid(const std::string& file, const std::string& gridName,
-  const std::vector<GridInfo>& grids, GridInfo& found, std::string& error)
+// Find @a gridName among the grids of the open @a vdb (of @a file) and check that it is a scalar
+// grid.
+bool FindScalarGrid(openvdb::io::File& vdb, const std::string& file, const std::string& gridName,
+  GridInfo& found, std::string& error)
 {
+  const std::vector<GridInfo> grids = ListOpenFile(vdb);
   auto it = std::find_if(grids.begin(), grids.end(),
     [&gridName](const GridInfo& info) { return info.Name == gridName; });
   if (it == grids.end())
@@ -398,6 +400,19 @@ bool Guard(const std::string& context, std::string& error, Body&& body)
   return false;
 }
 
+// Run @a body(vdb, info) on the scalar grid @a gridName of @a file, opened, found and checked
+// (FindScalarGrid), inside Guard: how every read of one grid starts.
+template <typename Body>
+bool WithScalarGrid(
+  const std::string& file, const std::string& gridName, std::string& error, Body&& body)
+{
+  return Guard("cannot read " + Where(file, gridName), error, [&]() {
+    OpenFile vdb(file);
+    GridInfo info;
+    return FindScalarGrid(vdb.File, file, gridName, info, error) && body(vdb, info);
+  });
+}
+
 } // anonymous namespace
 
 //------------------------------------------------------------------------------
@@ -467,14 +482,7 @@ bool ReadScalarGridInfo(
   {
     return false;
   }
-  return Guard("cannot read " + Where(file, gridName), error, [&]() {
-    OpenFile vdb(file);
-    const std::vector<GridInfo> grids = ListOpenFile(vdb.File);
-    GridInfo info;
-    if (!FindScalarGrid(file, gridName, grids, info, error))
-    {
-      return false;
-    }
+  return WithScalarGrid(file, gridName, error, [&](OpenFile& vdb, const GridInfo& info) {
     openvdb::GridBase::Ptr meta = vdb.File.readGridMetadata(gridName);
     double voxelSize = 1.0;
     if (!UniformVoxelSize(*meta, file, voxelSize, error))
@@ -546,14 +554,7 @@ bool ReadScalarGrid(
     error = "cannot read " + Where(file, gridName) + ": empty box or no output buffer";
     return false;
   }
-  return Guard("cannot read " + Where(file, gridName), error, [&]() {
-    OpenFile vdb(file);
-    const std::vector<GridInfo> grids = ListOpenFile(vdb.File);
-    GridInfo info;
-    if (!FindScalarGrid(file, gridName, grids, info, error))
-    {
-      return false;
-    }
+  return WithScalarGrid(file, gridName, error, [&](OpenFile& vdb, const GridInfo& info) {
     const bool isDouble = (info.ValueType == "double");
     if (isDouble != volume.IsDouble)
     {
