@@ -55,8 +55,15 @@ void FrameLoop::ResetAccumulation()
 
 //------------------------------------------------------------------------------
 void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
-  vtkDataArray* scalars, bool cellScalars, const FrameRequest& request, FrameMessages& messages)
+  vtkDataArray* scalars, bool cellScalars, const FrameRequest& asked, FrameMessages& messages)
 {
+  // Several processes: the same decisions everywhere (process 0's), threads shared per host,
+  // and only process 0 denoises (and draws, below).
+  this->Parallel.SetController(asked.Controller);
+  FrameRequest request = asked;
+  request.Threads = this->Parallel.Threads(asked.Threads);
+  request.Still = this->Parallel.Agree(asked.Still) != 0;
+  request.Denoise = asked.Denoise && this->Parallel.Shows();
   this->LastRenderTraced = false;
   this->LastRenderFrames = 0;
   this->LastTraceTime = 0.0;
@@ -114,7 +121,8 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   this->LastError.clear();
   // Compared with the frame that started the accumulation, so slow drifts cannot pile up.
-  const FrameSignature::Change change = signature.Compare(this->Signature);
+  const auto change = static_cast<FrameSignature::Change>(
+    this->Parallel.Agree(static_cast<int>(signature.Compare(this->Signature))));
   if (change == FrameSignature::Change::View && request.TemporalReprojection &&
     this->AccumulatedFrames > 0)
   {
@@ -131,8 +139,8 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
 
   // 2.-3. Trace and accumulate (a still render: until converged), 4. denoise and combine.
-  if (this->AccumulatedFrames < request.MaximumAccumulatedFrames &&
-    !(request.Still && this->StillConverged))
+  if (this->Parallel.Agree(this->AccumulatedFrames < request.MaximumAccumulatedFrames &&
+        !(request.Still && this->StillConverged)))
   {
     this->Trace(request, messages);
   }
@@ -142,7 +150,12 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   this->Combine(request, messages);
 
-  // 5.-6. What the window shows.
+  // 5.-6. What the window shows (with several processes: process 0's; the others add nothing
+  // to the composited image).
+  if (!this->Parallel.Shows())
+  {
+    return;
+  }
   this->Shown.Update(ren, this->Accumulated, this->ShownPass(request, messages),
     this->Params.Camera, this->Inputs.GetWorldBounds(), request.Threads);
   this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth());
@@ -157,7 +170,7 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   this->Frame.Resize(width, height);
   this->Accumulated.Resize(width, height);
   const int samples = request.Scene.SamplesPerFrame;
-  const unsigned int firstSample = this->SampleFrames * static_cast<unsigned int>(samples);
+  const unsigned int firstSample = this->Parallel.FirstSample(this->SampleFrames, samples);
   std::string problem;
   this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(), firstSample, samples,
     request.Threads, UsePortableKernels(false), request.Backend, this->Frame, problem);
@@ -166,6 +179,7 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     messages.emplace_back(true, problem);
   }
   this->BackendProblem = problem;
+  this->Parallel.AverageFrame(this->Frame, kTracedPassCount); // several processes: their mean
   ++this->SampleFrames;
   ++this->AccumulatedFrames;
   ++this->LastRenderFrames;
@@ -292,21 +306,27 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
   // Estimates cost a denoise each: the first after kMinimumBlendFrames (the estimate needs
   // them), then where the 1/frames decay of the error predicts the target, at most 1.5x on.
   int next = std::max(Convergence::kMinimumBlendFrames, this->AccumulatedFrames);
+  enum Decision
+  {
+    Continue,
+    Converged,
+    Stop
+  };
   while (!this->StillConverged)
   {
     const int k = this->AccumulatedFrames;
+    int decision = Continue;
     if (k >= next || k >= cap)
     {
       this->Combine(request, messages);
       const double quality = this->EstimatedQuality;
       if (k >= Convergence::kMinimumBlendFrames && quality >= request.StillQuality)
       {
-        this->StillConverged = true;
-        break;
+        decision = Converged;
       }
-      if (k >= cap)
+      else if (k >= cap)
       {
-        break;
+        decision = Stop;
       }
       const double needed =
         quality > 0.0 ? k * std::pow(10.0, (request.StillQuality - quality) / 10.0) : 2.0 * k;
@@ -314,8 +334,15 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
       next = std::min(cap,
         std::max(k + 1, std::min(static_cast<int>(std::ceil(needed)), (3 * k + 1) / 2)));
     }
-    if (request.StillTimeBudget > 0.0 && Now() - start >= request.StillTimeBudget)
+    if (decision == Continue && request.StillTimeBudget > 0.0 &&
+      Now() - start >= request.StillTimeBudget)
     {
+      decision = Stop;
+    }
+    decision = this->Parallel.Agree(decision); // process 0 estimates (it alone denoises)
+    if (decision != Continue)
+    {
+      this->StillConverged = decision == Converged;
       break;
     }
     this->Trace(request, messages);

@@ -18,7 +18,10 @@
  *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
  *  6. ptvDisplay -- which is drawn into the render window.
  * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
- * loop's messages into vtkErrorMacro / vtkWarningMacro.
+ * loop's messages into vtkErrorMacro / vtkWarningMacro. With several processes (MPI ranks, each
+ * with the whole volume: FrameRequest::Controller), each traces its own samples of every frame
+ * and 3. starts by averaging the frames over the processes (ptvRanks); process 0 alone denoises
+ * and draws, and its decisions (restart, trace, stop a still render) are everyone's.
  */
 #ifndef ptvFrameLoop_h
 #define ptvFrameLoop_h
@@ -28,6 +31,7 @@
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
 #include "ptvPassBuffers.h"
+#include "ptvRanks.h"
 #include "ptvReprojection.h"
 #include "ptvShownImage.h"
 #include "ptvTracerRunner.h"
@@ -39,6 +43,7 @@
 
 class vtkDataArray;
 class vtkImageData;
+class vtkMultiProcessController;
 class vtkRenderer;
 class vtkVolume;
 class vtkWindow;
@@ -66,6 +71,9 @@ struct FrameRequest
   int MaximumStillFrames = 256;
   double StillTimeBudget = 0.0;
   std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
+  /// Processes that trace each frame together, each with the whole volume (ptvRanks.h);
+  /// nullptr: this process alone.
+  vtkMultiProcessController* Controller = nullptr;
 };
 
 /// What a frame asks the mapper to report, in order: (true = error, false = warning, text).
@@ -126,6 +134,7 @@ private:
   int ShownPass(const FrameRequest& request, FrameMessages& messages);
 
   FrameInputs Inputs;
+  Ranks Parallel; ///< the processes tracing each frame together (none: this one alone)
   TraceParams Params{};
   FrameSignature Signature; ///< of the frame that started the accumulation (or the view)
   TracerRunner Tracer;

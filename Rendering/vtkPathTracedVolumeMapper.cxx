@@ -12,7 +12,9 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkSmartPointer.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
@@ -32,6 +34,7 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   ptv::FrameLoop Loop;
   std::string BlendProblem;  // the blend-mode problem last reported
   std::string ClipProblems;  // the clipping/cropping problems last reported
+  vtkSmartPointer<vtkMultiProcessController> Controller; // several processes (ptvRanks.h)
 };
 
 vtkStandardNewMacro(vtkPathTracedVolumeMapper);
@@ -378,6 +381,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.TemporalReprojection = this->TemporalReprojection;
     request.MaximumHistory = this->MaximumHistory;
     request.Threads = this->NumberOfThreads;
+    request.Controller = this->Internals->Controller;
     request.Backend = this->Backend;
     request.Denoise = this->Denoise;
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
@@ -438,6 +442,22 @@ void vtkPathTracedVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
 }
 
 //------------------------------------------------------------------------------
+void vtkPathTracedVolumeMapper::SetController(vtkMultiProcessController* controller)
+{
+  if (this->Internals->Controller != controller)
+  {
+    this->Internals->Controller = controller;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkMultiProcessController* vtkPathTracedVolumeMapper::GetController()
+{
+  return this->Internals->Controller;
+}
+
+//------------------------------------------------------------------------------
 void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -456,6 +476,11 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EnvironmentIntensity: " << this->EnvironmentIntensity << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "Controller: "
+     << (this->Internals->Controller
+            ? std::to_string(this->Internals->Controller->GetNumberOfProcesses()) + " processes"
+            : std::string("(none)"))
+     << "\n";
   os << indent << "Denoise: " << this->Denoise << "\n";
   os << indent << "DenoiserModelFile: "
      << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";

@@ -43,7 +43,7 @@ PIP_PKGS=("onnxruntime==$ORT_VERSION" pytest==8.3.3 tqdm==4.67.1 pyoidn==2.5.1.0
 
 APT_PKGS=(paraview paraview-dev python3-paraview libopenvdb-dev libopenexr-dev xvfb xauth
   libgl1-mesa-dri python3-torch python3-onnx python3-numpy python3-matplotlib python3-skimage
-  python3-venv libglew-dev libopenmpi-dev libdouble-conversion-dev liblz4-dev libtiff-dev
+  python3-venv libglew-dev libopenmpi-dev openmpi-bin libdouble-conversion-dev liblz4-dev libtiff-dev
   libutfcpp-dev libboost-iostreams-dev python3-imath cmake ninja-build g++ unzip libhwy-dev
   qtbase5-dev qttools5-dev libqt5opengl5-dev)  # Qt5: the plugin's GUI part (~5 MB download)
 

@@ -14,6 +14,9 @@
 #include "vtkPVProgressHandler.h"
 #include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+#include <algorithm>
 
 #include <cstring>
 
@@ -122,6 +125,61 @@ int vtkPTVVolumeRepresentation::RequestData(
                   << "resample the data to an image (e.g. Resample To Image) first.");
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int ranks = controller ? controller->GetNumberOfProcesses() : 1;
+  vtkInformation* in = inputVector[0]->GetNumberOfInformationObjects() > 0
+    ? inputVector[0]->GetInformationObject(0)
+    : nullptr;
+  bool replicate = false;
+  if (ranks > 1 && in && in->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    int whole[6];
+    in->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    double voxels = 1.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      voxels *= std::max(whole[2 * a + 1] - whole[2 * a] + 1, 0);
+    }
+    replicate = voxels > 0.0 && 4.0 * voxels <= this->ReplicateVolumeLimit * 1048576.0;
+  }
+  if (replicate)
+  {
+    // The whole volume here: piece 0 of 1, no ghost cells (vtkPVDataRepresentation asked for
+    // piece = rank of N).
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  this->GetPathTracedMapper()->SetController(replicate ? controller : nullptr);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetReplicateVolumeLimit(double megabytes)
+{
+  megabytes = std::max(megabytes, 0.0);
+  if (this->ReplicateVolumeLimit != megabytes)
+  {
+    this->ReplicateVolumeLimit = megabytes;
+    this->MarkModified(); // a new update decides again
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPTVVolumeRepresentation::GetNumberOfSamplingRanks()
+{
+  vtkMultiProcessController* controller = this->GetPathTracedMapper()->GetController();
+  return controller ? controller->GetNumberOfProcesses() : 1;
 }
 
 //------------------------------------------------------------------------------
@@ -364,6 +422,7 @@ void vtkPTVVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << endl;
   os << indent << "UnsupportedInput: " << this->UnsupportedInput << endl;
   os << indent << "DisplayPass: " << this->GetDisplayPass() << endl;
+  os << indent << "ReplicateVolumeLimit: " << this->ReplicateVolumeLimit << " MB" << endl;
   os << indent << "PassesFileName: " << (this->PassesFileName ? this->PassesFileName : "(none)")
      << endl;
   os << indent << "PathTracedMapper:" << endl;

@@ -162,6 +162,22 @@ public:
    */
   bool GetNeedsRefinement();
 
+  ///@{
+  /**
+   * Parallel runs (pvbatch or pvserver under MPI with N > 1 ranks): a volume of at most this
+   * many megabytes (voxels x 4 bytes) is read whole on every rank, and the ranks trace each
+   * frame together (vtkPathTracedVolumeMapper::SetController: N times the samples per second,
+   * the same image as one rank with no seam between pieces); a larger one, or 0, keeps
+   * ParaView's split into one piece per rank, each traced alone (shadows, occlusion and the
+   * denoiser then stop at the piece boundaries). Default: 4096 MB.
+   */
+  void SetReplicateVolumeLimit(double megabytes);
+  vtkGetMacro(ReplicateVolumeLimit, double);
+  ///@}
+
+  /// The ranks that trace this volume's frames together (1: this rank alone).
+  int GetNumberOfSamplingRanks();
+
   /// The mapper this representation renders with (owned by the representation).
   vtkPathTracedVolumeMapper* GetPathTracedMapper();
 
@@ -176,12 +192,21 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
+  /**
+   * In parallel runs, asks for the whole volume on every rank when it fits under
+   * ReplicateVolumeLimit (and gives the mapper the ranks to trace with), else for this rank's
+   * piece as the base class does.
+   */
+  int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
   bool ProgressiveRefinement = true;
   bool ConvergeStillRenders = true;
   bool InteractiveSession = false;
   bool ProgressRegistered = false; ///< the mapper's progress reaches ParaView's progress bar
   bool UnsupportedInput = false;
   char* PassesFileName = nullptr;
+  double ReplicateVolumeLimit = 4096.0;
 
   /// Empty image handed to the view as the "next streamed piece" while refinement goes on.
   vtkNew<vtkImageData> RefinementToken;
