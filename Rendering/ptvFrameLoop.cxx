@@ -179,10 +179,18 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     messages.emplace_back(true, problem);
   }
   this->BackendProblem = problem;
-  this->Parallel.AverageFrame(this->Frame, kTracedPassCount); // several processes: their mean
+  // Several processes: process 0 gets their mean and accumulates it; the others only trace.
+  const bool kept = this->Parallel.GatherFrame(this->Frame, kTracedPassCount);
   ++this->SampleFrames;
   ++this->AccumulatedFrames;
   ++this->LastRenderFrames;
+  this->LastRenderTraced = true;
+  if (!kept)
+  {
+    this->ViewMoved = false;
+    this->LastTraceTime += 1000.0 * (Now() - start);
+    return;
+  }
   this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames);
   if (this->ViewMoved)
   {
@@ -273,7 +281,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
 //------------------------------------------------------------------------------
 void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
 {
-  if (this->AccumulatedFrames == 0)
+  if (this->AccumulatedFrames == 0 || !this->Parallel.Shows()) // the others keep no passes
   {
     return;
   }

@@ -20,8 +20,9 @@
  * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
  * loop's messages into vtkErrorMacro / vtkWarningMacro. With several processes (MPI ranks, each
  * with the whole volume: FrameRequest::Controller), each traces its own samples of every frame
- * and 3. starts by averaging the frames over the processes (ptvRanks); process 0 alone denoises
- * and draws, and its decisions (restart, trace, stop a still render) are everyone's.
+ * and 3. starts by averaging the frames over the processes on process 0 (ptvRanks), which alone
+ * accumulates, denoises and draws; its decisions (restart, trace, stop a still render) are
+ * everyone's.
  */
 #ifndef ptvFrameLoop_h
 #define ptvFrameLoop_h

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include <unistd.h>
 
@@ -56,7 +57,10 @@ int Ranks::Threads(int requested)
       this->LocalRanks += std::strncmp(all.data() + kName * r, name, kName) == 0 ? 1 : 0;
     }
   }
-  return std::max(1, ResolvedThreads(0) / std::max(this->LocalRanks, 1));
+  // The host's cores shared by its ranks, within this rank's affinity (mpirun binds each rank
+  // to one core unless told --bind-to none).
+  const int host = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, std::min(AvailableCores(), host / std::max(this->LocalRanks, 1)));
 }
 
 //------------------------------------------------------------------------------
@@ -67,11 +71,11 @@ unsigned int Ranks::FirstSample(unsigned int frame, int samples) const
 }
 
 //------------------------------------------------------------------------------
-void Ranks::AverageFrame(PassBuffers& frame, int passes)
+bool Ranks::GatherFrame(PassBuffers& frame, int passes)
 {
   if (!this->IsParallel())
   {
-    return;
+    return true;
   }
   const std::size_t pixels =
     static_cast<std::size_t>(frame.GetWidth()) * static_cast<std::size_t>(frame.GetHeight());
@@ -79,15 +83,19 @@ void Ranks::AverageFrame(PassBuffers& frame, int passes)
   for (int p = 0; p < passes; ++p)
   {
     const std::size_t n = pixels * static_cast<std::size_t>(GetPassInfo(p).Components);
-    this->Sum.resize(n);
-    this->Controller->AllReduce(frame.Data(p), this->Sum.data(), static_cast<vtkIdType>(n),
-      vtkCommunicator::SUM_OP);
-    float* out = frame.Data(p);
-    for (std::size_t i = 0; i < n; ++i)
+    this->Sum.resize(this->Rank == 0 ? n : 0);
+    this->Controller->Reduce(frame.Data(p), this->Sum.data(), static_cast<vtkIdType>(n),
+      vtkCommunicator::SUM_OP, 0);
+    if (this->Rank == 0)
     {
-      out[i] = this->Sum[i] * scale;
+      float* out = frame.Data(p);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        out[i] = this->Sum[i] * scale;
+      }
     }
   }
+  return this->Rank == 0;
 }
 
 //------------------------------------------------------------------------------

@@ -4,13 +4,13 @@
  *        volume (vtkPathTracedVolumeMapper::SetController).
  *
  * With N processes, process r traces sample block f * N + r of frame f, so the N blocks of a
- * frame are the blocks one process would trace with N times the samples per frame; AverageFrame
- * sums the frame's traced passes over the processes and divides by N, which gives every process
- * that process's frame (the same estimator, the same image up to float rounding) and keeps
- * their accumulations identical. Decisions that could differ between processes (a time budget,
- * opaque geometry that only one process holds) are taken by process 0 and broadcast (Agree), so
- * that every process makes the same collective calls in the same order. Without a controller,
- * or with one process, every call is a no-op.
+ * frame are the blocks one process would trace with N times the samples per frame;
+ * GatherFrame sums the frame's traced passes on process 0 and divides by N, which gives it that
+ * process's frame (the same estimator, the same image up to float rounding). Process 0 alone
+ * accumulates, denoises and shows; the others only trace. Decisions (restart, trace, when a still
+ * render stops) are process 0's, broadcast (Agree), so that every process makes the same
+ * collective calls in the same order. Without a controller, or with one process, every call is a
+ * no-op.
  */
 #ifndef ptvRanks_h
 #define ptvRanks_h
@@ -50,8 +50,12 @@ public:
   /// The first sample of this process's block of frame @a frame with @a samples per block.
   unsigned int FirstSample(unsigned int frame, int samples) const;
 
-  /// Averages the first @a passes passes of @a frame over the processes (collective).
-  void AverageFrame(PassBuffers& frame, int passes);
+  /**
+   * The mean of the first @a passes passes of @a frame over the processes, into process 0's
+   * @a frame (collective). Returns whether this process keeps the frame (process 0, or the only
+   * one); the others' frames have been used.
+   */
+  bool GatherFrame(PassBuffers& frame, int passes);
 
   /// Process 0's @a value on every process (collective).
   int Agree(int value);

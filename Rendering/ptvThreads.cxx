@@ -5,6 +5,10 @@
 #include <mutex>
 #include <vector>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 namespace ptv
 {
 namespace
@@ -131,6 +135,25 @@ private:
   std::atomic<std::size_t> Next{ 0 };
   std::atomic<std::size_t> Finished{ 0 };
 };
+}
+
+//------------------------------------------------------------------------------
+int AvailableCores()
+{
+  static const int cores = []()
+  {
+    int n = static_cast<int>(std::thread::hardware_concurrency());
+#if defined(__linux__)
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0)
+    {
+      n = CPU_COUNT(&set);
+    }
+#endif
+    return std::max(n, 1);
+  }();
+  return cores;
 }
 
 //------------------------------------------------------------------------------

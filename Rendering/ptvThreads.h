@@ -21,10 +21,17 @@
 
 namespace ptv
 {
-/// The number of threads @a threads stands for (<= 0: every core).
+/**
+ * The cores this process may run on: its CPU affinity mask where the system has one (mpirun
+ * binds each rank to a core by default; containers and taskset limit it too), else every core;
+ * at least 1. Read once.
+ */
+int AvailableCores();
+
+/// The number of threads @a threads stands for (<= 0: every available core).
 inline int ResolvedThreads(int threads)
 {
-  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return threads > 0 ? threads : AvailableCores();
 }
 
 /// Calls @a call(@a context, c) for every chunk c in [0, @a chunks) on up to @a threads threads

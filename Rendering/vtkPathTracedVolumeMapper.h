@@ -281,10 +281,10 @@ public:
    * Processes (MPI ranks) that trace each frame together; nullptr (default): this process
    * alone. Every process must hold the whole volume and render every frame. Process r traces
    * the samples of frame f that one process would trace as block f * N + r with N times the
-   * SamplesPerFrame, the frames are averaged over the N processes, and so every process
-   * accumulates the image one process would, N times faster; process 0 alone denoises and
-   * draws (the others draw nothing, so that compositing keeps process 0's image), and its
-   * decisions (restart, trace, when a still render stops) are everyone's. With NumberOfThreads 0
+   * SamplesPerFrame, and process 0 accumulates the frames' mean over the N processes: the image
+   * one process would accumulate, N times faster. Process 0 alone accumulates, denoises and
+   * draws (the others draw nothing, so that compositing keeps process 0's image; their passes
+   * are not kept), and its decisions (restart, trace, when a still render stops) are everyone's. With NumberOfThreads 0
    * the processes on one host share its cores. ParaView's "Path Traced Volume" representation
    * sets it in parallel runs when the volume fits (ReplicateVolumeLimit).
    */
