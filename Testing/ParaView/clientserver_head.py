@@ -21,6 +21,9 @@ connect to a server, so Testing/CMakeLists.txt registers this file with pvpython
    sessions vtkPTVRepresentationInformation, gathered from the render server's root
    (Session.GatherInformation), must report the 8 frames, CPU or CUDA and the fixed guide;
 3. the server is stopped (also on failure, from ``finally``) and its log must hold no error.
+With ``PTV_SERVER_RANKS`` = N > 1 the server is ``mpirun -np N pvserver``: the ranks trace each
+frame together (the volume is replicated): the builtin session uses SamplesPerFrame N and the
+server's passes must still equal its passes (rank r traces sample block f N + r).
 Exits non-zero on any failed check; prints PASS at the end.
 """
 from __future__ import annotations
@@ -50,6 +53,10 @@ SIZE = [160, 160]
 FRAMES = 8
 # Mean |diff| (0..255) allowed between the builtin and the remote screenshot.
 MAX_MEAN_DIFF = 1.0
+SERVER_RANKS = int(os.environ.get("PTV_SERVER_RANKS", "1"))
+if SERVER_RANKS > 1:
+    TEMP = os.path.join(TEMP, "ranks%d" % SERVER_RANKS)
+    os.makedirs(TEMP, exist_ok=True)
 
 check = ptvpvtest.Checks()
 failures: List[str] = check.failures
@@ -76,6 +83,8 @@ def build_scene(name: str, remote: bool):
     ColorBy(display, ("POINTS", "ImageScalars"))
     display.DenoiserUseNetwork = 0
     display.MaximumAccumulatedFrames = FRAMES
+    # N server ranks trace a block of samples each per frame: the builtin session traces N.
+    display.SamplesPerFrame = 1 if remote else SERVER_RANKS
     display.ConvergeStillRenders = 0  # frames are counted per render (streaming passes)
     display.PassesFileName = os.path.join(TEMP, name + ".exr")
     GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
@@ -185,10 +194,17 @@ class Server:
         self.ready = threading.Event()
         command = ["pvserver", "--server-port=%d" % port, "--hostname=127.0.0.1",
                    "--force-offscreen-rendering"]
+        if SERVER_RANKS > 1:
+            command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np",
+                       str(SERVER_RANKS)] + command
         print("starting:", " ".join(command), flush=True)
+        # pvpython is itself an MPI singleton: its OMPI_/PMIX_ variables would make mpirun
+        # refuse to start (a nested launch).
+        env = {k: v for k, v in os.environ.items()
+               if not k.startswith(("OMPI_", "PMIX_", "PRTE_", "OPAL_"))}
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE,
                                         stderr=subprocess.STDOUT, text=True,
-                                        start_new_session=True)
+                                        start_new_session=True, env=env)
         self.thread = threading.Thread(target=self._pump, daemon=True)
         self.thread.start()
 
