@@ -3,12 +3,16 @@
 # the GUI's idle refinement must accumulate the frames on the server. Usage (ctest does this,
 # under Xvfb, with PTV_PLUGIN, PTV_CACHE_DIR, PTV_TEST_TEMP and PYTHONPATH set):
 #   gui_clientserver.sh <paraview> <pvserver> <gui_progressive_refinement.py>
-# Fails when the GUI test fails or the server logs an error or warning.
+# PTV_SERVER_RANKS=N (> 1) starts the server as `mpirun -np N pvserver` (the ranks trace each
+# frame together). Fails when the GUI test fails or the server logs an error or warning.
 set -u
 paraview="$1" pvserver="$2" script="$3"
-log="${PTV_TEST_TEMP:-.}/gui_clientserver_pvserver.log"
+ranks="${PTV_SERVER_RANKS:-1}"
+log="${PTV_TEST_TEMP:-.}/gui_clientserver_pvserver_$ranks.log"
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-"$pvserver" --server-port="$port" --hostname=127.0.0.1 --force-offscreen-rendering > "$log" 2>&1 &
+launch=()
+((ranks > 1)) && launch=(mpirun --allow-run-as-root --oversubscribe -np "$ranks")
+"${launch[@]}" "$pvserver" --server-port="$port" --hostname=127.0.0.1 --force-offscreen-rendering > "$log" 2>&1 &
 server=$!
 for _ in $(seq 300); do
   grep -q "Accepting connection" "$log" && break
