@@ -42,22 +42,9 @@ controller = vtkMultiProcessController.GetGlobalController()
 ranks = controller.GetNumberOfProcesses() if controller else 1
 os.makedirs(args.out, exist_ok=True)
 
-reader = XMLImageDataReader(
-    FileName=[os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")])
-view = CreateView("RenderView")
-view.ViewSize = [args.size, args.size]
-view.OrientationAxesVisibility = 0
+reader, view, display = ptvpvtest.head_scene(size=[args.size, args.size])
 view.UseFXAA = 0
 view.StillRenderImageReductionFactor = 1
-view.UseColorPaletteForBackground = 0
-view.Background = [0.32, 0.34, 0.43]
-display = Show(reader, view)
-display.SetRepresentationType("Path Traced Volume")
-ColorBy(display, ("POINTS", "ImageScalars"))
-preset_file = os.path.join(os.environ["PTV_SOURCE_DIR"], "Data", "TransferFunctions", "head.json")
-ImportPresets(preset_file)
-GetColorTransferFunction("ImageScalars").ApplyPreset("Head Two-Band (paper)", True)
-GetOpacityTransferFunction("ImageScalars").ApplyPreset("Head Two-Band (paper)", True)
 display.ConvergeStillRenders = 1 if args.still_budget > 0 else 0
 if args.still_budget > 0:
     display.StillQuality = 60.0
@@ -70,7 +57,6 @@ display.Denoise = args.denoise
 display.NumberOfThreads = args.threads
 if args.replicate_limit is not None:
     display.ReplicateVolumeLimit = args.replicate_limit
-ptvpvtest.front_view(view)
 
 Render(view)  # the first frame (and the pipeline update)
 start = time.perf_counter()

@@ -51,30 +51,28 @@ def run(ranks: int, out: Path, *args: str) -> Dict:
     return info
 
 
-def radiance(path: Path) -> np.ndarray:
-    from pathtracedvolume.vtkPTVFilters import vtkPTVEXRPassReader
+def read(reader, path: Path, array: str = "") -> np.ndarray:
+    """``array`` (default: the active scalars) of the image ``reader`` reads from ``path``, as
+    (H, W, C) float64."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    reader = vtkPTVEXRPassReader()
     reader.SetFileName(str(path))
     reader.Update()
     image = reader.GetOutput()
     w, h, _ = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetArray("Radiance")).reshape(h, w, 3).astype(
-        np.float64)
+    pd = image.GetPointData()
+    values = pd.GetArray(array) if array else pd.GetScalars()
+    return vtk_to_numpy(values).reshape(h, w, -1).astype(np.float64)
+
+
+def radiance(path: Path) -> np.ndarray:
+    from pathtracedvolume.vtkPTVFilters import vtkPTVEXRPassReader
+    return read(vtkPTVEXRPassReader(), path, "Radiance")
 
 
 def screenshot(path: Path) -> np.ndarray:
-    from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
-
-    png = vtkPNGReader()
-    png.SetFileName(str(path))
-    png.Update()
-    image = png.GetOutput()
-    w, h, _ = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[..., :3].astype(
-        np.float64)
+    return read(vtkPNGReader(), path)[..., :3]
 
 
 def main() -> int:

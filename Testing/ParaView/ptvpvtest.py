@@ -65,6 +65,34 @@ def read_png(path: str) -> np.ndarray:
     return pixels.reshape(h, w, -1)[..., :3]
 
 
+def head_scene(preset: str = "Head Two-Band (paper)", size=None):
+    """The head CT (``$PTV_CACHE_DIR/data/head.vti``) shown as "Path Traced Volume" in a new
+    render view (no axes, the fixed background [0.32, 0.34, 0.43], which is also the
+    environment light), coloured by ImageScalars with ``preset`` (colour and opacity, imported
+    from Data/TransferFunctions/head.json), front view; returns (reader, view, display)."""
+    import os
+
+    from paraview import simple
+
+    reader = simple.XMLImageDataReader(
+        FileName=[os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")])
+    view = simple.CreateView("RenderView")
+    if size is not None:
+        view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.Background = [0.32, 0.34, 0.43]
+    display = simple.Show(reader, view)
+    display.SetRepresentationType("Path Traced Volume")
+    simple.ColorBy(display, ("POINTS", "ImageScalars"))
+    simple.ImportPresets(os.path.join(os.environ["PTV_SOURCE_DIR"], "Data", "TransferFunctions",
+                                      "head.json"))
+    simple.GetColorTransferFunction("ImageScalars").ApplyPreset(preset, True)
+    simple.GetOpacityTransferFunction("ImageScalars").ApplyPreset(preset, True)
+    front_view(view)
+    return reader, view, display
+
+
 def front_view(view) -> None:
     """The head CT's front view (its y axis runs front to back, z up), reset to fit."""
     camera = view.GetActiveCamera()

@@ -33,7 +33,6 @@ LoadPlugin(os.environ["PTV_PLUGIN"], remote=False, ns=globals())
 
 from pathtracedvolume import vtkPTVRendering  # noqa: E402,F401 (registers the mapper's class)
 
-SOURCE_DIR = os.environ["PTV_SOURCE_DIR"]
 TEMP = os.environ.get("PTV_TEST_TEMP", ".")
 os.makedirs(TEMP, exist_ok=True)
 PRESET = "Head Two-Band (paper)"
@@ -53,19 +52,7 @@ def psnr(value):
     return -10.0 * np.log10(max(value, 1e-20))
 
 
-reader = XMLImageDataReader(
-    FileName=[os.path.join(os.environ["PTV_CACHE_DIR"], "data", "head.vti")])
-view = CreateView("RenderView")
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0.32, 0.34, 0.43]
-display = Show(reader, view)
-display.SetRepresentationType("Path Traced Volume")
-ColorBy(display, ("POINTS", "ImageScalars"))
-ImportPresets(os.path.join(SOURCE_DIR, "Data", "TransferFunctions", "head.json"))
-GetColorTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
-GetOpacityTransferFunction("ImageScalars").ApplyPreset(PRESET, True)
-ptvpvtest.front_view(view)
+reader, view, display = ptvpvtest.head_scene(PRESET)
 camera = view.GetActiveCamera()
 
 

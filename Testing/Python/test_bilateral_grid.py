@@ -16,10 +16,12 @@ import itertools
 import math
 import sys
 from pathlib import Path
-from typing import Callable, Dict, List, Tuple
+from typing import Callable, Dict, Tuple
 
 import numpy as np
 import pytest
+
+from ptv_vtk_messages import observe
 import torch
 
 TRAINING_DIR = Path(__file__).resolve().parents[2] / "Training"
@@ -253,22 +255,6 @@ def vtk_image(array: np.ndarray):
     scalars.SetName("input")
     image.GetPointData().SetScalars(scalars)
     return image
-
-
-def observe(obj) -> List[str]:
-    """Collect the object's error and warning messages (keeps them off the output window)."""
-    from vtkmodules.util.misc import calldata_type
-    from vtkmodules.util.vtkConstants import VTK_STRING
-
-    messages: List[str] = []
-
-    @calldata_type(VTK_STRING)
-    def on_message(caller, event, calldata):
-        messages.append(f"{event}: {calldata}")
-
-    obj.AddObserver("ErrorEvent", on_message)
-    obj.AddObserver("WarningEvent", on_message)
-    return messages
 
 
 def grid_denoiser(radiance: np.ndarray, albedo: np.ndarray, guides: np.ndarray,

@@ -12,10 +12,11 @@ import os
 import subprocess
 import sys
 from pathlib import Path
-from typing import List
 
 import numpy as np
 import pytest
+
+from ptv_vtk_messages import observe
 
 REPO = Path(os.environ.get("PTV_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 TRAINING = REPO / "Training"
@@ -56,22 +57,6 @@ def random_features(c: int, h: int, w: int, seed: int) -> np.ndarray:
 def ptv():
     import pathtracedvolume.vtkPTVRendering as module
     return module
-
-
-def observe(obj) -> List[str]:
-    """Collect the object's error and warning messages (keeps them off the output window)."""
-    from vtkmodules.util.misc import calldata_type
-    from vtkmodules.util.vtkConstants import VTK_STRING
-
-    messages: List[str] = []
-
-    @calldata_type(VTK_STRING)
-    def on_message(caller, event, calldata):
-        messages.append(f"{event}: {calldata}")
-
-    obj.AddObserver("ErrorEvent", on_message)
-    obj.AddObserver("WarningEvent", on_message)
-    return messages
 
 
 def to_image(feats: np.ndarray, name: str = "Features"):
