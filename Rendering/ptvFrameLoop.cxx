@@ -57,13 +57,12 @@ void FrameLoop::ResetAccumulation()
 void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   vtkDataArray* scalars, bool cellScalars, const FrameRequest& asked, FrameMessages& messages)
 {
-  // Several processes: the same decisions everywhere (process 0's), threads shared per host,
-  // and only process 0 denoises (and draws, below).
+  // Several processes: the same decisions everywhere (process 0's) and threads shared per host;
+  // only process 0 accumulates, denoises (Combine) and draws (below).
   this->Parallel.SetController(asked.Controller);
   FrameRequest request = asked;
   request.Threads = this->Parallel.Threads(asked.Threads);
   request.Still = this->Parallel.Agree(asked.Still) != 0;
-  request.Denoise = asked.Denoise && this->Parallel.Shows();
   this->LastRenderTraced = false;
   this->LastRenderFrames = 0;
   this->LastTraceTime = 0.0;
@@ -165,10 +164,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
 void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
 {
   const double start = Now();
-  const int width = this->Params.Camera.Width;
-  const int height = this->Params.Camera.Height;
-  this->Frame.Resize(width, height);
-  this->Accumulated.Resize(width, height);
+  this->Frame.Resize(this->Params.Camera.Width, this->Params.Camera.Height);
   const int samples = request.Scene.SamplesPerFrame;
   const unsigned int firstSample = this->Parallel.FirstSample(this->SampleFrames, samples);
   std::string problem;
@@ -179,18 +175,27 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     messages.emplace_back(true, problem);
   }
   this->BackendProblem = problem;
-  // Several processes: process 0 gets their mean and accumulates it; the others only trace.
-  const bool kept = this->Parallel.GatherFrame(this->Frame, kTracedPassCount);
   ++this->SampleFrames;
   ++this->AccumulatedFrames;
   ++this->LastRenderFrames;
-  this->LastRenderTraced = true;
-  if (!kept)
+  // Several processes: process 0 gets their mean and accumulates it; the others only trace.
+  if (this->Parallel.GatherFrame(this->Frame, kTracedPassCount))
   {
-    this->ViewMoved = false;
-    this->LastTraceTime += 1000.0 * (Now() - start);
-    return;
+    this->AccumulateFrame(request);
   }
+  this->ViewMoved = false;
+  this->CombinedValid = false;
+  this->DenoisedValid = false;
+  this->LastRenderTraced = true;
+  this->LastTraceTime += 1000.0 * (Now() - start);
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::AccumulateFrame(const FrameRequest& request)
+{
+  const int width = this->Frame.GetWidth();
+  const int height = this->Frame.GetHeight();
+  this->Accumulated.Resize(width, height);
   this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames);
   if (this->ViewMoved)
   {
@@ -198,7 +203,6 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
       request.MaximumHistory, this->LastViewFrames, this->Accumulated,
       this->Frame, request.Threads);
-    this->ViewMoved = false;
     this->LastReprojectionTime += 1000.0 * (Now() - reprojectStart);
   }
   else if (this->History.HasHistory())
@@ -214,10 +218,6 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
-  this->CombinedValid = false;
-  this->LastTraceTime += 1000.0 * (Now() - start);
-  this->LastRenderTraced = true;
-  this->DenoisedValid = false;
 }
 
 //------------------------------------------------------------------------------

@@ -125,7 +125,10 @@ public:
   void ReleaseGraphicsResources(vtkWindow* window);
 
 private:
+  /// Trace one frame (this process's block of samples) and, where it is kept, accumulate it.
   void Trace(const FrameRequest& request, FrameMessages& messages);
+  /// The traced frame joins the accumulation (reprojected history, running mean, counts).
+  void AccumulateFrame(const FrameRequest& request);
   /// Denoise the accumulation if it changed since the last denoise; false on failure.
   bool DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
   /// Denoise (when on) and combine; updates EstimatedQuality.
