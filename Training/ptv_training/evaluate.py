@@ -41,10 +41,11 @@ from . import exr_io  # noqa: E402
 from .data import chw, psnr  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
 from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
-from .scene import ensure_paths, numpy_to_image  # noqa: E402
+from .scene import ensure_paths  # noqa: E402
 from .train import run_model  # noqa: E402
 
 ensure_paths()
+from pathtracedvolume.scene import numpy_to_image  # noqa: E402
 
 
 def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence[str],

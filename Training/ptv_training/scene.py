@@ -199,20 +199,5 @@ class Scene:
 
     def get_pass(self, name: str) -> np.ndarray:
         """Pass ``name`` as ``(H, W, C)`` float32 (VTK row order: bottom row first)."""
+        from pathtracedvolume.scene import get_pass
         return get_pass(self.mapper, name)
-
-
-def get_pass(mapper: Any, name: str) -> np.ndarray:
-    """``mapper.GetPass(name)`` as ``(H, W, C)`` float32, bottom row first
-    (``pathtracedvolume.scene.get_pass``)."""
-    ensure_paths()
-    from pathtracedvolume.scene import get_pass as scene_get_pass
-    return scene_get_pass(mapper, name)
-
-
-def numpy_to_image(array: np.ndarray, name: str) -> Any:
-    """``(H, W[, C])`` float32 (bottom row first) -> a W x H x 1 vtkImageData with point array
-    ``name`` (``pathtracedvolume.scene.numpy_to_image``)."""
-    ensure_paths()
-    from pathtracedvolume.scene import numpy_to_image as scene_numpy_to_image
-    return scene_numpy_to_image(array, name)
