@@ -267,8 +267,9 @@ public:
 
   ///@{
   /**
-   * Threads used to trace a frame; 0 (default) uses every core. Frames are bit-identical for
-   * any value. The tracer, the denoiser and the display share one persistent pool of worker
+   * Threads used to trace a frame; 0 (default) uses every core this process may run on (its
+   * CPU affinity; with a Controller, the host's cores shared by its ranks). Frames are
+   * bit-identical for any value. The tracer, the denoiser and the display share one persistent pool of worker
    * threads of the plugin's own (VTK 9.2's SMP backends are either sequential or start new
    * threads for every loop); the application's vtkSMPTools backend is left alone.
    */
