@@ -10,8 +10,8 @@ For every dataset in ``Data/datasets.json`` this script
 2. extracts the one file it needs (``dpkg-deb -x`` for ``.deb``, the single
    zip member for wheels) into a temporary folder and checks its SHA-256;
 3. reads the voxels (InVesalius ``.inv3`` project, ``.npz``, multi-page
-   TIFF), applies the documented axis flips and checks shape, dtype, value
-   range and the SHA-256 of the raw voxel bytes;
+   TIFF, gzip NIfTI-1), applies the documented axis flips and checks shape,
+   dtype, value range and the SHA-256 of the raw voxel bytes;
 4. writes ``<cache>/data/<name>.vti`` (appended raw binary, zlib) through a
    temporary file in the same folder, reads it back, verifies it and moves it
    into place with ``os.replace``.
@@ -334,10 +334,54 @@ def read_tiff_stack(name: str, path: Path, options: Mapping[str, Any],
     raise FetchError(f"{name}: no TIFF reader available ({'; '.join(errors)})")
 
 
+#: NIfTI-1 ``datatype`` codes this reader accepts, as little-endian NumPy dtypes.
+NIFTI_DTYPES = {2: "u1", 4: "<i2", 8: "<i4", 16: "<f4", 256: "i1", 512: "<u2"}
+
+
+def read_nifti_gz(name: str, path: Path, options: Mapping[str, Any]) -> Volume:
+    """Read a gzip-compressed single-file NIfTI-1 volume (``.nii.gz``).
+
+    Only what the manifest's volumes need: a 3-D little-endian image whose
+    intensity scaling is the identity (``scl_slope`` 0 or 1, ``scl_inter``
+    0).  Voxel (i, j, k) becomes (x, y, z): the array comes back as
+    ``(k, j, i)``.  The qform/sform is not applied; the manifest says what the
+    axes are.  Returns the spacing ``pixdim[1:4]``.
+    """
+    import gzip
+    import struct
+    raw = gzip.decompress(path.read_bytes())
+    if len(raw) < 352 or struct.unpack("<i", raw[:4])[0] != 348:
+        raise FetchError(f"{name}: {path.name} is not a little-endian NIfTI-1 "
+                         "file (sizeof_hdr != 348)")
+    dim = struct.unpack("<8h", raw[40:56])
+    datatype = struct.unpack("<h", raw[70:72])[0]
+    pixdim = struct.unpack("<8f", raw[76:108])
+    offset = int(struct.unpack("<f", raw[108:112])[0])
+    slope, inter = struct.unpack("<2f", raw[112:120])
+    if dim[0] != 3:
+        raise FetchError(f"{name}: {path.name} has {dim[0]} dimensions, "
+                         "expected 3")
+    if datatype not in NIFTI_DTYPES:
+        raise FetchError(f"{name}: {path.name} has NIfTI datatype "
+                         f"{datatype}, not one of {sorted(NIFTI_DTYPES)}")
+    if slope not in (0.0, 1.0) or inter != 0.0:
+        raise FetchError(f"{name}: {path.name} scales its intensities "
+                         f"(scl_slope {slope}, scl_inter {inter})")
+    shape = tuple(int(n) for n in reversed(dim[1:4]))
+    count = shape[0] * shape[1] * shape[2]
+    dtype = np.dtype(NIFTI_DTYPES[datatype])
+    if offset + count * dtype.itemsize > len(raw):
+        raise FetchError(f"{name}: {path.name} is truncated")
+    array = np.frombuffer(raw, dtype=dtype, count=count, offset=offset)
+    spacing = tuple(float(v) for v in pixdim[1:4])
+    return array.reshape(shape).copy(), spacing  # type: ignore[return-value]
+
+
 READERS: dict[str, Callable[[str, Path, Mapping[str, Any]], Volume]] = {
     "invesalius-inv3": read_inv3,
     "npz": read_npz,
     "tiff-stack": read_tiff_stack,
+    "nifti-gz": read_nifti_gz,
 }
 
 

@@ -31,6 +31,10 @@ EXPECTED = {
     "head": ((256, 256, 108), (0.957, 0.957, 1.5), np.int16, (-1024, 2986)),
     "stent": ((128, 128, 256), (1.0, 1.0, 1.0), np.int16, (0, 2000)),
     "concrete": ((100, 100, 100), (1.0, 1.0, 1.0), np.uint16, None),
+    "mri": ((181, 217, 181), (1.0, 1.0, 1.0), np.uint8, (0, 254)),
+    "snow": ((100, 100, 100), (1.0, 1.0, 1.0), np.uint16, None),
+    "neutron": ((100, 100, 100), (1.0, 1.0, 1.0), np.uint16, None),
+    "nuclei": ((57, 61, 31), (1.0, 1.0, 1.0), np.uint16, None),
 }
 
 
@@ -65,8 +69,8 @@ def read_with_vtk(path: Path) -> tuple[np.ndarray, tuple, tuple, tuple]:
 # Manifest and helpers (no data needed)
 # --------------------------------------------------------------------------
 
-def test_manifest_lists_the_three_datasets(manifest: dict) -> None:
-    assert list(manifest["datasets"]) == ["head", "stent", "concrete"]
+def test_manifest_lists_the_datasets(manifest: dict) -> None:
+    assert list(manifest["datasets"]) == list(EXPECTED)
     for name, entry in manifest["datasets"].items():
         dims, _, dtype, _ = EXPECTED[name]
         volume = entry["volume"]
@@ -86,6 +90,10 @@ def test_manifest_pins_the_given_packages(manifest: dict) -> None:
         "head": ("debian", "invesalius-examples", "3.1.99998-4"),
         "stent": ("debian", "python3-imageio", "2.4.1-5"),
         "concrete": ("pypi", "spam", "0.9.1"),
+        "mri": ("debian", "mricron-data", "1.2.20211006+dfsg-4"),
+        "snow": ("pypi", "spam", "0.9.1"),
+        "neutron": ("pypi", "spam", "0.9.1"),
+        "nuclei": ("pypi", "stardist", "0.9.2"),
     }
     head = manifest["datasets"]["head"]["format_options"]
     assert head["matrix_md5"] == "66ab67efe8d69b70e276eb2202d20d34"
@@ -339,3 +347,33 @@ def test_fresh_download_with_wrong_hash_is_rejected(
     assert info.value.expected == entry["source"]["sha256"]
     assert sorted(p.name for p in downloads.iterdir()) == \
         [file_name + ".rejected"]
+
+
+def test_nifti_reader_rejects_bad_files(tmp_path: Path) -> None:
+    """Not NIfTI-1, a 4-D image, and scaled intensities each give a clear FetchError."""
+    import gzip
+    import struct
+    sys.path.insert(0, str(SCRIPTS_DIR))
+    import fetch_datasets as fd
+
+    def nifti(dim0: int = 3, slope: float = 1.0, datatype: int = 2) -> bytes:
+        header = bytearray(352)
+        header[0:4] = struct.pack("<i", 348)
+        header[40:56] = struct.pack("<8h", dim0, 2, 3, 4, 1, 1, 1, 1)
+        header[70:72] = struct.pack("<h", datatype)
+        header[76:108] = struct.pack("<8f", 1, 0.5, 0.5, 2.0, 1, 1, 1, 1)
+        header[108:112] = struct.pack("<f", 352.0)
+        header[112:120] = struct.pack("<2f", slope, 0.0)
+        return bytes(header) + bytes(range(24))
+
+    good = tmp_path / "good.nii.gz"
+    good.write_bytes(gzip.compress(nifti()))
+    array, spacing = fd.read_nifti_gz("t", good, {})
+    assert array.shape == (4, 3, 2) and spacing == (0.5, 0.5, 2.0)
+    assert array[1, 0, 1] == 7  # x fastest: (z=1, y=0, x=1) is voxel 1 + 2 * 3 = 7
+    for data, message in ((b"\0" * 400, "sizeof_hdr"), (nifti(dim0=4), "4 dimensions"),
+                          (nifti(slope=2.0), "scl_slope"), (nifti(datatype=128), "datatype")):
+        bad = tmp_path / "bad.nii.gz"
+        bad.write_bytes(gzip.compress(data))
+        with pytest.raises(fd.FetchError, match=message):
+            fd.read_nifti_gz("t", bad, {})
