@@ -31,10 +31,15 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
 
     data = tmp_path / "views"
     common = ["--out", str(data), "--datasets", "head", "--views", "2", "--size", "32",
-              "--reference-spp", "16", "--check-reference", "--no-progress", "--threads", "2"]
+              "--reference-spp", "8", "--val-views", "1", "--val-reference-spp", "16",
+              "--check-reference", "--no-progress", "--threads", "2"]
     assert generate.main(common) == 0
     manifest = json.loads((data / "manifest.json").read_text())
     assert manifest["complete"] and len(manifest["views"]) == 2
+    # Random transfer functions; the last view is the validation view with the larger reference.
+    views = [r["view"] for r in manifest["views"]]
+    assert all("transfer_function" in v for v in views)
+    assert [(v["split"], v["reference_spp"]) for v in views] == [("train", 8), ("val", 16)]
     assert manifest["timing"]["rendered"] == 2
     assert "psnr_half_vs_full" in manifest["reference_check"]["all"]
     first = data / manifest["views"][0]["file"]
@@ -54,6 +59,15 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     # A rerun verifies the files and renders nothing.
     assert generate.main(common) == 0
     assert json.loads((data / "manifest.json").read_text())["timing"]["rendered"] == 0
+
+    # The first data set's jittered presets still render (its views are unchanged).
+    presets = tmp_path / "presets"
+    assert generate.main(["--out", str(presets), "--tf", "presets", "--datasets", "stent",
+                          "--views", "1", "--val-views", "0", "--size", "16",
+                          "--reference-spp", "4", "--no-progress"]) == 0
+    first_view = json.loads((presets / "manifest.json").read_text())["views"][0]["view"]
+    assert first_view["preset"].startswith("Stent ") and "split" not in first_view
+    assert first_view == generate.view_parameters("stent", 0, 2023, 16, 4)
 
     run = tmp_path / "run"
     model_file = tmp_path / "model.onnx"

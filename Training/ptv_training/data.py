@@ -66,28 +66,36 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         view = exr_io.read_view(path)
         meta = view["view"] or {}
         dataset = str(meta.get("dataset", Path(path).stem.split("_")[0]))
+        reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
             passes = view["inputs"][spp]
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
                 radiance=chw(passes["Radiance"]), albedo=chw(passes["Albedo"]),
-                reference=chw(view["reference"]), spp16=chw(view["spp16"]),
+                reference=reference, spp16=spp16,
                 passes=dict(passes) if keep_passes else {}))
     return samples
 
 
 def split_views(data_dir: Path, val_per_dataset: int) -> Tuple[List[Path], List[Path], dict]:
-    """(train files, validation files, manifest): the last ``val_per_dataset`` views of each
-    dataset (by index) are held out for validation."""
+    """(train files, validation files, manifest). Views that carry a ``"split"`` (``generate.py
+    --val-views``) go where it says, in index order; otherwise the last ``val_per_dataset``
+    views of each dataset (by index) are held out for validation."""
     manifest = json.loads((data_dir / "manifest.json").read_text())
     by_dataset: Dict[str, List[Tuple[int, Path]]] = {}
+    train: List[Path] = []
+    val: List[Path] = []
+    records = sorted(manifest["views"], key=lambda r: (r["view"]["dataset"], r["view"]["index"]))
+    if records and all("split" in r["view"] for r in records):
+        for record in records:
+            (val if record["view"]["split"] == "val" else train).append(
+                data_dir / record["file"])
+        return train, val, manifest
     for record in manifest["views"]:
         view = record["view"]
         entry = (view["index"], data_dir / record["file"])
         by_dataset.setdefault(view["dataset"], []).append(entry)
-    train: List[Path] = []
-    val: List[Path] = []
     for ds in sorted(by_dataset):
         items = [p for _, p in sorted(by_dataset[ds])]
         k = min(val_per_dataset, max(len(items) - 1, 0))

@@ -1,9 +1,22 @@
 """Render the denoiser's training data: one multi-channel EXR per random view + a manifest.
 
-For each dataset, ``--views`` random views (camera over the sphere, distance factor 0.8-1.3 by
-a camera Dolly, a positional key light in a random direction above the view, the two-band or
-smooth preset with band thresholds shifted by up to +-5 % of the data range and opacity scaled by
-0.5-1.5) are rendered at ``--size`` squared by vtkPathTracedVolumeMapper (denoising off):
+For each dataset, ``--views`` random views are rendered at ``--size`` squared by
+vtkPathTracedVolumeMapper (denoising off). What a view varies depends on ``--tf``:
+
+* ``random`` (default, the data users bring): a transfer function drawn from the volume's own
+  histogram (:mod:`ptv_training.transfer`: bands or ramps, opacity 0.02-1, random colours),
+  camera over the sphere with a distance factor 0.6-1.5 (zoom), a positional key light in a
+  random direction (elevation -30..80 degrees) with intensity 0.4-1.6, and a random environment
+  (= background) colour: grey level log-uniform in [0.03, 1], tinted by up to 30 %;
+* ``presets`` (the first data set, ``v1``): the dataset's two-band or smooth preset with band
+  thresholds shifted by up to +-5 % of the data range and opacity scaled by 0.5-1.5, distance
+  factor 0.8-1.3, a key light above the view (elevation 15-80 degrees, intensity 0.7-1.3), the
+  default background. Only head, stent and concrete have presets.
+
+The last ``--val-views`` views of each dataset are the validation split (``"split"`` in the
+view): their reference has ``--val-reference-spp`` samples per pixel. Training views' references
+have ``--reference-spp``: a noisy but unbiased target, which is all an L2-type (Noise2Noise) loss
+needs, at a fraction of the cost. For each view:
 
 * inputs: every pass after 1, 2 and 4 frames of one seed (the mapper denoises accumulated
   frames, so the model sees a few spp), and the radiance after 16 frames of the same seed (the
@@ -51,10 +64,16 @@ from .scene import Scene, anchor_groups, ensure_paths, sample_threshold_shift  #
 
 ensure_paths()
 
-DATASETS = ("head", "stent", "concrete")
+PRESET_DATASETS = ("head", "stent", "concrete")
 FORMAT = "ptv-training-views-v1"
 REPO_ROOT = Path(__file__).resolve().parents[2]
-DEFAULT_OUT = REPO_ROOT / ".cache" / "training" / "v1"
+DEFAULT_OUT = REPO_ROOT / ".cache" / "training" / "v2"
+
+
+def all_datasets() -> List[str]:
+    """Every dataset of ``Data/datasets.json``."""
+    from pathtracedvolume.datasets import dataset_names
+    return list(dataset_names())
 
 
 from pathtracedvolume.metrics import psnr, tonemap  # noqa: E402,F401 (the project's metrics)
@@ -65,9 +84,46 @@ def _rng(seed: int, dataset: str, index: int, stream: int = 0) -> np.random.Gene
     return np.random.default_rng(int.from_bytes(key[:8], "little"))
 
 
+def random_view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
+                           histogram: Dict[str, List[float]], split: str = "train",
+                           elevation_limit: float = 75.0) -> Dict[str, Any]:
+    """The random, deterministic parameters of view ``index`` of ``dataset`` for ``--tf random``
+    (``histogram``: :func:`ptv_training.transfer.histogram_quantiles` of the volume)."""
+    from .transfer import random_transfer_function
+
+    rng = _rng(seed, dataset, index, stream=1)
+    tf = random_transfer_function(histogram, rng)
+    azimuth = float(rng.uniform(0.0, 360.0))
+    elevation = float(np.degrees(np.arcsin(rng.uniform(-1.0, 1.0))))
+    elevation = float(np.clip(elevation, -elevation_limit, elevation_limit))
+    grey = float(np.exp(rng.uniform(np.log(0.03), np.log(1.0))))
+    tint = rng.uniform(-0.3, 0.3, 3)
+    background = [float(np.clip(grey * (1.0 + t), 0.0, 1.0)) for t in tint]
+    return {
+        "dataset": dataset,
+        "index": index,
+        "split": split,
+        "transfer_function": tf,
+        "azimuth": azimuth,
+        "elevation": elevation,
+        "distance_factor": float(rng.uniform(0.6, 1.5)),
+        "light": {"azimuth": float(rng.uniform(-180.0, 180.0)),
+                  "elevation": float(rng.uniform(-30.0, 80.0)),
+                  "intensity": float(rng.uniform(0.4, 1.6))},
+        "background": background,
+        "input_seed": int(rng.integers(1, 2**31 - 1)),
+        "reference_seed": int(rng.integers(1, 2**31 - 1)),
+        "size": [size, size],
+        "reference_spp": int(reference_spp),
+        "input_spp": list(exr_io.INPUT_SPP),
+        "baseline_spp": 16,
+    }
+
+
 def view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
                     elevation_limit: float = 75.0) -> Dict[str, Any]:
-    """The random, deterministic parameters of view ``index`` of ``dataset``."""
+    """The random, deterministic parameters of view ``index`` of ``dataset`` for
+    ``--tf presets`` (unchanged since the first data set: the same seed gives the same views)."""
     from pathtracedvolume.presets import find_preset
 
     rng = _rng(seed, dataset, index)
@@ -192,12 +248,22 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
         epilog="Resumable: views whose file exists and verifies are skipped.")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
                         help=f"output folder (default: {DEFAULT_OUT})")
-    parser.add_argument("--datasets", nargs="+", choices=DATASETS, default=list(DATASETS),
-                        help="datasets (default: all three)")
-    parser.add_argument("--views", type=int, default=12, help="views per dataset (default: 12)")
-    parser.add_argument("--size", type=int, default=128, help="image size S (S x S; default 128)")
-    parser.add_argument("--reference-spp", type=int, default=1024,
-                        help="reference samples per pixel R (default: 1024)")
+    parser.add_argument("--tf", choices=("random", "presets"), default="random",
+                        help="random: transfer functions, lights, zoom and environment drawn "
+                             "per view (default); presets: the first data set's jittered presets")
+    parser.add_argument("--datasets", nargs="+", default=None,
+                        help="datasets (default: every dataset of Data/datasets.json with "
+                             "--tf random, head stent concrete with --tf presets)")
+    parser.add_argument("--views", type=int, default=48, help="views per dataset (default: 48)")
+    parser.add_argument("--val-views", type=int, default=2,
+                        help="the last K views of each dataset are validation views (default 2; "
+                             "0 with --tf presets, whose split train.py makes)")
+    parser.add_argument("--size", type=int, default=256, help="image size S (S x S; default 256)")
+    parser.add_argument("--reference-spp", type=int, default=64,
+                        help="reference samples per pixel R of training views (default: 64, a "
+                             "noisy target for a Noise2Noise loss)")
+    parser.add_argument("--val-reference-spp", type=int, default=1024,
+                        help="reference samples per pixel of validation views (default: 1024)")
     parser.add_argument("--seed", type=int, default=2023, help="master seed (default: 2023)")
     parser.add_argument("--check-reference", action="store_true",
                         help="record the reference convergence check (PSNR of R/2 vs R, and the "
@@ -206,9 +272,45 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                         help="mapper threads (0 = every core, default)")
     parser.add_argument("--no-progress", action="store_true", help="no tqdm progress bar")
     args = parser.parse_args(argv)
-    if args.views < 1 or args.size < 8 or args.reference_spp < 2:
-        parser.error("need --views >= 1, --size >= 8, --reference-spp >= 2")
+    if args.views < 1 or args.size < 8 or args.reference_spp < 2 or args.val_reference_spp < 2:
+        parser.error("need --views >= 1, --size >= 8, reference spp >= 2")
+    if not 0 <= args.val_views < args.views:
+        parser.error(f"--val-views {args.val_views} must be in [0, --views)")
+    known = PRESET_DATASETS if args.tf == "presets" else tuple(all_datasets())
+    if args.datasets is None:
+        args.datasets = list(known)
+    unknown = sorted(set(args.datasets) - set(known))
+    if unknown:
+        parser.error(f"--datasets: {', '.join(unknown)} not available with --tf {args.tf} "
+                     f"(known: {', '.join(known)})")
     return args
+
+
+def dataset_histogram(dataset: str) -> Dict[str, List[float]]:
+    """:func:`ptv_training.transfer.histogram_quantiles` of the dataset's volume."""
+    from pathtracedvolume.scene import load_dataset
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    from .transfer import histogram_quantiles
+    image = load_dataset(dataset)
+    return histogram_quantiles(vtk_to_numpy(image.GetPointData().GetScalars()))
+
+
+def make_view(args: argparse.Namespace, dataset: str, index: int,
+              histograms: Dict[str, Dict[str, List[float]]]) -> Dict[str, Any]:
+    """The parameters of view ``index`` of ``dataset`` under ``args``."""
+    if args.tf == "presets":
+        view = view_parameters(dataset, index, args.seed, args.size, args.reference_spp)
+        if args.val_views:
+            view["split"] = "val" if index >= args.views - args.val_views else "train"
+        return view
+    if dataset not in histograms:
+        histograms[dataset] = dataset_histogram(dataset)
+    val = index >= args.views - args.val_views
+    return random_view_parameters(
+        dataset, index, args.seed, args.size,
+        args.val_reference_spp if val else args.reference_spp, histograms[dataset],
+        split="val" if val else "train")
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -230,11 +332,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     jobs = [(ds, i) for ds in args.datasets for i in range(args.views)]
     records: List[Dict[str, Any]] = []
     scenes: Dict[str, Scene] = {}
+    histograms: Dict[str, Dict[str, List[float]]] = {}
     started = time.perf_counter()
     rendered = skipped = 0
     bar = tqdm(jobs, desc="views", unit="view", disable=args.no_progress, dynamic_ncols=True)
     for ds, index in bar:
-        view = view_parameters(ds, index, args.seed, args.size, args.reference_spp)
+        view = make_view(args, ds, index, histograms)
         name = f"{ds}_{index:03d}.exr"
         path = out / name
         record = old.get(name)
@@ -290,11 +393,15 @@ def _write_manifest(path: Path, args: argparse.Namespace, command: str,
         "format": FORMAT,
         "complete": final,
         "command": command,
-        "parameters": {"datasets": args.datasets, "views": args.views, "size": args.size,
-                       "reference_spp": args.reference_spp, "seed": args.seed,
+        "parameters": {"tf": args.tf, "datasets": args.datasets, "views": args.views,
+                       "val_views": args.val_views, "size": args.size,
+                       "reference_spp": args.reference_spp,
+                       "val_reference_spp": args.val_reference_spp, "seed": args.seed,
                        "input_spp": list(exr_io.INPUT_SPP), "baseline_spp": 16,
-                       "threshold_jitter": 0.05, "opacity_scale": [0.5, 1.5],
-                       "distance_factor": [0.8, 1.3]},
+                       **({"threshold_jitter": 0.05, "opacity_scale": [0.5, 1.5],
+                           "distance_factor": [0.8, 1.3]} if args.tf == "presets" else
+                          {"distance_factor": [0.6, 1.5], "light_elevation": [-30, 80],
+                           "light_intensity": [0.4, 1.6], "background_grey": [0.03, 1.0]})},
         "channels": exr_io.channel_names(),
         "row_order": "EXR top row first; ptv_training.exr_io.read_view returns VTK order",
         "machine": {"platform": platform.platform(), "cpus": os.cpu_count()},

@@ -7,8 +7,9 @@ adds what the training views vary: jittered transfer functions and a scene light
 
 View parameters (JSON-friendly)::
 
-    dataset           "head" | "stent" | "concrete"
-    preset            preset name ("Head Two-Band (paper)", "Head Smooth", ...)
+    dataset           a dataset of Data/datasets.json ("head", "mri", ...)
+    transfer_function a preset dictionary ("Points", "RGBPoints"), used as is; or else
+    preset            preset name ("Head Two-Band (paper)", "Head Smooth", ...) with
     threshold_shift   [dx, ...] per anchor group of the preset's transfer function (data units)
     opacity_scale     opacity multiplier (result clipped to [0, 1])
     azimuth, elevation, distance_factor
@@ -129,9 +130,13 @@ class Scene:
 
         if view["dataset"] != self.dataset:
             raise ValueError(f"view of {view['dataset']!r} on a {self.dataset!r} scene")
-        preset = find_preset(view["preset"])
-        shift = view.get("threshold_shift")
-        if shift is not None or view.get("opacity_scale", 1.0) != 1.0:
+        if "transfer_function" in view:
+            preset = view["transfer_function"]
+            shift = None
+        else:
+            preset = find_preset(view["preset"])
+            shift = view.get("threshold_shift")
+        if shift is not None or ("preset" in view and view.get("opacity_scale", 1.0) != 1.0):
             preset = jitter_preset(preset, shift or [0.0] * len(anchor_groups(preset)),
                                    view.get("opacity_scale", 1.0))
         prop = volume_property(preset)

@@ -1,0 +1,137 @@
+"""The second training data set's generator: random transfer functions from a volume's histogram,
+the held-out shapes the generator never draws, random view parameters and the train/validation
+split (no rendering: fast)."""
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(os.environ.get("PTV_SOURCE_DIR") or Path(__file__).resolve().parents[2])
+if str(ROOT / "Training") not in sys.path:
+    sys.path.append(str(ROOT / "Training"))  # appended: the compiled package stays first
+
+from ptv_training import transfer  # noqa: E402
+
+
+def ct_like_volume() -> np.ndarray:
+    """60 % air at -1000, the rest spread over [-200, 2000] (a CT-like histogram)."""
+    rng = np.random.default_rng(0)
+    values = np.full(100_000, -1000.0)
+    values[40_000:] = rng.uniform(-200.0, 2000.0, 60_000)
+    return values
+
+
+def points(preset: dict, key: str, stride: int) -> np.ndarray:
+    return np.asarray(preset[key], dtype=np.float64).reshape(-1, stride)
+
+
+def plateaus(preset: dict) -> list:
+    """Widths of the opacity function's flat non-zero segments (bands, ramp tops)."""
+    pts = points(preset, "Points", 4)
+    return [b[0] - a[0] for a, b in zip(pts, pts[1:]) if a[1] > 0 and a[1] == b[1]]
+
+
+def test_histogram_leaves_out_a_dominant_background() -> None:
+    h = transfer.histogram_quantiles(ct_like_volume())
+    assert h["range"] == [-1000.0, pytest.approx(2000.0, abs=1.0)]
+    assert h["quantiles"][0] >= -200.0  # the air (60 % at the minimum) is left out
+    assert len(h["quantiles"]) == 1001
+    # A volume without such a background keeps every voxel.
+    flat = transfer.histogram_quantiles(np.linspace(0.0, 1.0, 1000))
+    assert flat["quantiles"][0] == 0.0 and flat["quantiles"][-1] == 1.0
+
+
+def test_random_transfer_functions_are_valid_and_deterministic() -> None:
+    from pathtracedvolume.presets import make_functions
+
+    h = transfer.histogram_quantiles(ct_like_volume())
+    lo, hi = h["range"]
+    a = [transfer.random_transfer_function(h, np.random.default_rng([7, i])) for i in range(300)]
+    b = [transfer.random_transfer_function(h, np.random.default_rng([7, i])) for i in range(300)]
+    assert json.dumps(a) == json.dumps(b)  # same generator state -> same function
+    kinds = {p["Name"].split(" x")[0] for p in a}
+    assert kinds == {"random bands", "random ramp"}
+    maxima = []
+    for preset in a:
+        make_functions(preset)  # VTK accepts it
+        pts, rgb = points(preset, "Points", 4), points(preset, "RGBPoints", 4)
+        for table in (pts, rgb):
+            assert np.all(np.diff(table[:, 0]) > 0)
+            assert table[0, 0] == lo and table[-1, 0] == hi
+        assert np.all((pts[:, 1] >= 0) & (pts[:, 1] <= 1))
+        assert np.all((rgb[:, 1:] >= 0) & (rgb[:, 1:] <= 1))
+        maxima.append(pts[:, 1].max())
+        # Bands are at least 1 % of the range wide (the held-out narrow bands are 0.3 %).
+        if preset["Name"].startswith("random bands"):
+            assert min(plateaus(preset)) >= 0.01 * (hi - lo) * (1 - 1e-9)
+        assert len(pts) <= 14
+    maxima = np.asarray(maxima)
+    assert maxima.min() >= 0.02 - 1e-12 and maxima.max() <= 1.0
+    assert maxima.min() < 0.05 and maxima.max() > 0.8  # the whole opacity range is drawn
+
+
+def test_held_out_shapes_are_not_what_training_draws() -> None:
+    from pathtracedvolume.presets import make_functions
+
+    h = transfer.histogram_quantiles(ct_like_volume())
+    lo, hi = h["range"]
+    held = transfer.held_out_transfer_functions(h)
+    assert sorted(held) == ["narrow", "smooth", "translucent"]
+    for preset in held.values():
+        make_functions(preset)
+    assert points(held["translucent"], "Points", 4)[:, 1].max() <= 0.04
+    assert len(plateaus(held["narrow"])) == 2
+    assert max(plateaus(held["narrow"])) < 0.01 * (hi - lo)  # below the training minimum
+    assert len(points(held["smooth"], "Points", 4)) > 14  # more points than any drawn function
+
+
+def test_random_view_parameters_and_split(tmp_path: Path) -> None:
+    from ptv_training import generate
+    from ptv_training.data import split_views
+
+    h = transfer.histogram_quantiles(ct_like_volume())
+    view = generate.random_view_parameters("head", 3, 2023, 64, 16, h, split="val")
+    again = generate.random_view_parameters("head", 3, 2023, 64, 16, h, split="val")
+    other = generate.random_view_parameters("head", 4, 2023, 64, 16, h)
+    assert view == again and view != other
+    assert json.loads(json.dumps(view)) == view
+    assert view["split"] == "val" and other["split"] == "train"
+    assert 0.6 <= view["distance_factor"] <= 1.5
+    assert all(0.0 <= c <= 1.0 for c in view["background"])
+    assert 0.4 <= view["light"]["intensity"] <= 1.6
+
+    # split_views follows the views' "split" (not the last-K rule) when every view has one.
+    records = [{"file": f"head_{i:03d}.exr", "view": {"dataset": "head", "index": i,
+                                                      "split": "val" if i == 1 else "train"}}
+               for i in range(3)]
+    (tmp_path / "manifest.json").write_text(json.dumps({"views": records}))
+    train, val, _ = split_views(tmp_path, val_per_dataset=2)
+    assert [p.name for p in val] == ["head_001.exr"]
+    assert [p.name for p in train] == ["head_000.exr", "head_002.exr"]
+
+
+def test_relative_mse_is_minimised_by_the_mean_of_noisy_targets() -> None:
+    """The Noise2Noise property the 64-spp training targets rely on: with the denominator
+    detached, the gradient of the relative MSE vanishes at the targets' mean, while L1 on
+    tone-mapped images settles at their (tone-mapped) median."""
+    import torch
+
+    from ptv_training.train import training_loss
+
+    rng = np.random.default_rng(3)
+    targets = torch.tensor(rng.exponential(0.5, (4096, 1, 1, 1)), dtype=torch.float32)
+    for kind, expected in (("relmse", float(targets.mean())),
+                           ("l1", float(targets.median()))):
+        x = torch.full((1, 1, 1, 1), 0.3, requires_grad=True)
+        opt = torch.optim.Adam([x], lr=0.01)
+        for _ in range(1500):
+            opt.zero_grad()
+            training_loss(x.expand_as(targets), targets, kind).backward()
+            opt.step()
+        assert float(x) == pytest.approx(expected, rel=0.03), kind
+    assert float(targets.median()) < 0.8 * float(targets.mean())  # the two really differ
