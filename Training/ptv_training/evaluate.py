@@ -3,7 +3,7 @@
 For every held-out view of a training run (``<run>/run.json``) and each input spp, the ONNX
 model is run by the C++ ``vtkPTVDenoiser`` (the code the mapper uses) on the view's passes, and
 the same denoise is computed by the torch pipeline from the run's best checkpoint. Reported:
-PSNR of noisy / denoised (C++) / 16 spp against the 1024-spp reference (tone-mapped
+PSNR of noisy / denoised (C++) / 16 spp against the view's reference (1024 spp; tone-mapped
 ``clip(max(0, x)^(1/2.2), 0, 1)``, scikit-image, data_range 1), per dataset; the largest
 C++ - torch difference relative to the image range; C++ denoise time. ``--card`` writes the model
 card JSON next to the model.
@@ -46,6 +46,11 @@ from .train import run_model  # noqa: E402
 
 ensure_paths()
 from pathtracedvolume.scene import numpy_to_image  # noqa: E402
+
+
+LOSSES = {"l1": "L1(tonemap(out), tonemap(reference))",
+          "relmse": "relative MSE (out - reference)^2 / (sg(out)^2 + 0.01), sg = no gradient "
+                    "(Noise2Noise: training references of 64 spp)"}
 
 
 def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence[str],
@@ -201,6 +206,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     if args.card is not None:
         manifest = json.loads((data_dir / "manifest.json").read_text())
+        reference_spp = exr_io.read_view(data_dir / info["val_views"][0])["view"]["reference_spp"]
         timings = [sum(v["timings"].values()) for v in manifest["views"] if v["timings"]]
         card = {
             "model": args.model.name,
@@ -221,7 +227,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                          f"batch {info['args']['batch']}, grad-norm clip "
                          f"{info['args']['clip_grad']}, 8 flips/rotations, whole "
                          f"{ref.shape[1]}x{ref.shape[0]} views",
-                         "loss": "L1(tonemap(out), tonemap(reference))"},
+                         "loss": LOSSES[info["args"].get("loss", "l1")]},
             "data": {"command": manifest.get("command"), "format": manifest.get("format"),
                      "parameters": manifest.get("parameters"), "views": len(manifest["views"]),
                      "bytes": manifest.get("bytes"),
@@ -229,7 +235,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      "render_seconds_median_view": float(np.median(timings)) if timings
                      else None,
                      "reference_check": (manifest.get("reference_check") or {}).get("all")},
-            "validation": {"metric": "PSNR (dB) vs the 1024-spp reference, tone-mapped "
+            "validation": {"metric": f"PSNR (dB) vs the {reference_spp}-spp reference, tone-mapped "
                                      "clip(max(0,x)^(1/2.2),0,1), skimage data_range 1; "
                                      "denoised = C++ vtkPTVDenoiser with this file",
                            "per_dataset": table,

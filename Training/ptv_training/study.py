@@ -10,6 +10,16 @@ only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reus
     python Training/ptv_training/study.py loo --steps 800
     python Training/ptv_training/study.py unet --steps 800
     python Training/ptv_training/study.py cpu --steps 800
+    python Training/ptv_training/study.py v2-features --steps 1500 --jobs 2
+    python Training/ptv_training/study.py v2-loo --steps 1500 --jobs 2
+
+``ablation``, ``loo``, ``unet`` and ``cpu`` ran on the first data set (``.cache/training/v1``:
+head, stent and concrete with jittered presets, 128², 1024-spp references; L1 loss), which is
+their default data. The ``v2-*`` studies run on the second (``.cache/training/v2``: every dataset
+of ``Data/datasets.json``, random transfer functions, 256², 64-spp Noise2Noise targets; relative
+MSE), always with the shipped architecture (hidden 16, 5 x 5, stride 2, 8 outputs, PAPER_10, 3
+levels): ``v2-features`` asks which auxiliary features and which loss pay, ``v2-loo`` trains once
+without each volume and tests on its held-out views.
 
 ``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
 denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
@@ -47,7 +57,9 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 TRAIN = REPO_ROOT / "Training" / "ptv_training" / "train.py"
 DEFAULT_RUNS = REPO_ROOT / ".cache" / "training" / "runs"
 DEFAULT_RESULTS = REPO_ROOT / "Training" / "results"
-DATASETS = ("concrete", "head", "stent")
+DATASETS = ("concrete", "head", "stent")  # the first data set's (v1) datasets
+DATA_V1 = REPO_ROOT / ".cache" / "training" / "v1"
+DATA_V2 = REPO_ROOT / ".cache" / "training" / "v2"
 KEEP_WITHIN_DB = 0.2  # keep the cheapest configuration within this of the best
 
 
@@ -62,7 +74,8 @@ BASE = ["--channels", "VOLUME_FEATURES", "--hidden", "8", "--kernel", "5", "--no
 # The shipped configuration, chosen by the ablation (cheapest within 0.2 dB of the best).
 SHIP = ["--channels", "PAPER_10", "--hidden", "20", "--kernel", "5", "--no-demodulate"]
 # Runs shared between studies (trained once): experiment name -> run folder.
-SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3"}
+SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3",
+          "all": "study_v2-features_paper10"}  # v2-loo's in-domain run is v2-features' paper10
 
 
 def cpu_candidate(hidden: int, kernel: int, stride: int, out_channels: int,
@@ -115,6 +128,44 @@ STUDIES: Dict[str, List[Experiment]] = {
 }
 
 
+# The shipped architecture since the cpu study; v2 runs use the relative-MSE loss (train.py).
+V2_SHIP = ["--channels", "PAPER_10", "--hidden", "16", "--kernel", "5", "--stride", "2",
+           "--out-channels", "8", "--no-demodulate"]
+
+
+def with_channels(flags: List[str], channels: str) -> List[str]:
+    out = list(flags)
+    out[out.index("--channels") + 1] = channels
+    return out
+
+
+STUDIES["v2-features"] = [
+    Experiment("paper10", "colour, albedo, normal, depth (PAPER_10, shipped)", V2_SHIP),
+    Experiment("volume", "PAPER_10 + scatter normal and depth (VOLUME_FEATURES)",
+               with_channels(V2_SHIP, "VOLUME_FEATURES")),
+    Experiment("color", "colour only (COLOR_ONLY)", with_channels(V2_SHIP, "COLOR_ONLY")),
+    Experiment("paper10_l1", "PAPER_10, L1 on tone-mapped images instead of relative MSE",
+               V2_SHIP + ["--loss", "l1"]),
+]
+
+
+def v2_loo(datasets: Sequence[str]) -> List[Experiment]:
+    """``v2-loo``: the shipped architecture on every dataset, and once without each."""
+    return [Experiment("all", "every dataset (in-domain)", V2_SHIP)] + [
+        Experiment(f"no_{d}", f"trained without {d}", V2_SHIP + ["--exclude", d])
+        for d in datasets]
+
+
+def data_datasets(data: Path) -> List[str]:
+    """The datasets of a views folder's manifest, sorted."""
+    manifest = json.loads((data / "manifest.json").read_text())
+    return sorted({r["view"]["dataset"] for r in manifest["views"]})
+
+
+def default_data(study: str) -> Path:
+    return DATA_V2 if study.startswith("v2-") else DATA_V1
+
+
 def run_dir(runs: Path, study: str, name: str) -> Path:
     return runs / SHARED.get(name, f"study_{study}_{name}")
 
@@ -125,9 +176,9 @@ def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
         return 0.0
     cmd = [sys.executable, str(TRAIN), "--out", str(out), "--max-steps", str(args.steps),
            "--minutes", "600", "--threads", "1", "--seed", str(args.seed), "--no-progress",
-           *exp.args]
-    if args.data:
-        cmd += ["--data", str(args.data)]
+           *exp.args, "--data", str(args.data)]
+    if not args.study.startswith("v2-"):
+        cmd += ["--loss", "l1"]  # the first studies' loss (before train.py's relmse default)
     if (out / "last.pt").is_file():
         cmd.append("--resume")
     start = time.monotonic()
@@ -147,10 +198,11 @@ def summarise(exp: Experiment, out: Path) -> Dict[str, Any]:
     ck = torch.load(out / "best.pt", weights_only=False)
     info = json.loads((out / "run.json").read_text())
     rows = [r for r in ck.get("validation_rows", []) if r["spp"] == 1]
+    names = sorted({r["dataset"] for r in rows})
     per = {d: sum(r["psnr"] for r in rows if r["dataset"] == d)
-           / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in DATASETS}
+           / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in names}
     noisy = {d: sum(r["noisy"] for r in rows if r["dataset"] == d)
-             / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in DATASETS}
+             / max(1, sum(1 for r in rows if r["dataset"] == d)) for d in names}
     return {"name": exp.name, "what": exp.what, "args": exp.args, "run": out.name,
             "channels": len(info["channels"]), "parameters": info["parameters"],
             "macs_per_pixel": info["macs_per_pixel"], "levels": info["levels"],
@@ -218,6 +270,7 @@ def atomic_write(path: Path, text: str) -> None:
 
 
 def table(results: List[Dict[str, Any]], reference: Optional[Dict[str, Any]] = None) -> str:
+    DATASETS = list(results[0]["psnr_1spp"])  # noqa: N806 (the runs' validation datasets)
     head = ("| experiment | what | params | MACs/px | train min | " + " | ".join(DATASETS)
             + " | mean | Δ vs first |\n|---|---|---|---|---|" + "---|" * len(DATASETS)
             + "---|---|\n")
@@ -260,6 +313,14 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
             f"`{ref['name']}`, {r['psnr_1spp_mean'] - ref['psnr_1spp_mean']:+.2f} dB."
             for r in results[1:]]
         return "\n".join(lines) + "\n"
+    if study == "v2-features":
+        ref = by["paper10"]
+        lines = [cheapest] + [
+            f"- `{r['name']}` ({r['what']}): {r['psnr_1spp_mean'] - ref['psnr_1spp_mean']:+.2f} dB "
+            f"mean over `paper10`, per dataset " + ", ".join(
+                f"{d} {r['psnr_1spp'][d] - ref['psnr_1spp'][d]:+.2f}" for d in ref["psnr_1spp"])
+            + "." for r in results if r is not ref]
+        return "\n".join(lines) + "\n"
     if study == "ablation":
         lines = [cheapest]
         if "color_h8_L3" in by and "vol_h8_L3" in by:
@@ -274,7 +335,7 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
         return "\n".join(lines) + "\n"
     lines = []
     ref = results[0]  # the in-domain model
-    for d in DATASETS:
+    for d in ref["psnr_1spp"]:
         r = by.get(f"no_{d}")
         if r and ref:
             gap = r["psnr_1spp"][d] - ref["psnr_1spp"][d]
@@ -288,12 +349,15 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                                 description="Train and tabulate one study: ablation, "
                                             "leave-one-out, U-Net or CPU cost (runs are reused "
                                             "when already trained).")
-    p.add_argument("study", choices=sorted(STUDIES), help="which study")
+    p.add_argument("study", choices=sorted([*STUDIES, "v2-loo"]), help="which study")
     p.add_argument("--steps", type=int, default=800, help="training steps per run (default 800)")
     p.add_argument("--seed", type=int, default=0, help="seed of every run (default 0)")
     p.add_argument("--jobs", type=int, default=2,
                    help="runs trained at once, one thread each (default 2)")
-    p.add_argument("--data", type=Path, default=None, help="views folder (default: train.py's)")
+    p.add_argument("--data", type=Path, default=None,
+                   help=f"views folder (default: {DATA_V2} for the v2-* studies, else {DATA_V1})")
+    p.add_argument("--holdout", nargs="*", default=None, metavar="DATASET",
+                   help="v2-loo: the datasets to leave out one at a time (default: all)")
     p.add_argument("--repeats", type=int, default=9, help="C++ timing repeats (unet study)")
     p.add_argument("--runs", type=Path, default=DEFAULT_RUNS, help="run folders go here")
     p.add_argument("--results", type=Path, default=DEFAULT_RESULTS,
@@ -305,7 +369,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from tqdm import tqdm
 
     args = parse_args(argv)
+    args.data = args.data or default_data(args.study)
     experiments = STUDIES[args.study]
+    if args.study == "v2-loo":
+        experiments = v2_loo(args.holdout or data_datasets(args.data))
     outs = [run_dir(args.runs, args.study, e.name) for e in experiments]
     start = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:

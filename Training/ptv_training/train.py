@@ -5,7 +5,15 @@ or random square crops, each with one of the 8 flips/rotations per step; inputs 
 and 4-spp accumulated passes of every training view (``--spp``). Per step::
 
     features --GuideNet--> guides (x 255), blend weights --bilateral_grid.denoise--> output
-    loss = L1(tonemap(output), tonemap(reference)),  tonemap(x) = clip(max(0, x)^(1/2.2), 0, 1)
+    loss (--loss relmse, default) = mean((output - reference)^2 / (sg(output)^2 + 0.01))
+    loss (--loss l1)              = L1(tonemap(output), tonemap(reference))
+
+with ``tonemap(x) = clip(max(0, x)^(1/2.2), 0, 1)`` and ``sg`` = no gradient. The relative MSE
+(Lehtinen et al. 2018, "Noise2Noise", their loss for Monte Carlo renderings) is minimised by the
+reference's expectation, so a noisy but unbiased reference (``generate.py``'s 64-spp training
+targets) trains as well as a converged one; an L1 loss on tone-mapped images would instead
+seek the noisy target's median, which is darker. Validation always reports the tone-mapped PSNR
+against the validation views' converged references.
 
 GuideNet's ``--stride`` s runs the network on s x s average-pooled features and upsamples its
 output bilinearly (``guidenet.py``); ``--out-channels`` pads its output for ONNX Runtime.
@@ -56,7 +64,7 @@ from .unet import UNet  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v1"
+DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v2"
 LOG_FIELDS = ["epoch", "steps", "elapsed_s", "train_loss", "val_loss", "val_psnr",
               "val_psnr_1spp", "val_psnr_2spp", "val_psnr_4spp", "noisy_psnr_1spp", "lr", "best"]
 
@@ -81,6 +89,15 @@ def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Te
                   weights if n > 1 else None,
                   levels=levels, clamp=clamp)
     return out, guides, weights
+
+
+def training_loss(output: torch.Tensor, reference: torch.Tensor, kind: str) -> torch.Tensor:
+    """The training loss (module doc): ``"relmse"`` or ``"l1"``."""
+    if kind == "l1":
+        return (tonemap(output) - tonemap(reference)).abs().mean()
+    if kind == "relmse":
+        return ((output - reference) ** 2 / (output.detach() ** 2 + 0.01)).mean()
+    raise ValueError(f"unknown loss {kind!r}")
 
 
 def _atomic_save(obj: Any, path: Path) -> None:
@@ -177,6 +194,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--no-demodulate", dest="demodulate", action="store_false",
                    help="denoise radiance itself, not radiance / albedo (1-spp volume albedo is "
                         "noisy: re-modulating by it puts noise back)")
+    p.add_argument("--loss", choices=("relmse", "l1"), default="relmse",
+                   help="relmse: relative MSE on linear radiance, right for noisy (Noise2Noise) "
+                        "references (default); l1: L1 on tone-mapped images")
     p.add_argument("--clamp", type=float, default=8.0,
                    help="outlier clamp of the grid (default 8, as the C++ default)")
     p.add_argument("--spp", default="1,2,4", help="input spp used for training (default 1,2,4)")
@@ -306,7 +326,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 sl = (Ellipsis, slice(y, y + args.crop), slice(x, x + args.crop))
                 f, r, a, ref = f[sl], r[sl], a[sl], ref[sl]
             result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate)
-            loss = (tonemap(result) - tonemap(ref)).abs().mean()
+            loss = training_loss(result, ref, args.loss)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             if args.clip_grad > 0:
