@@ -1,5 +1,6 @@
-"""Section 3: the paper's Tables 2, 3 and 4, read from the committed results of the training
-studies (issue #5) in ``Training/results/`` when present; not re-measured.
+"""Section 3: the paper's Tables 2, 3 and 4 (on the first and the second training data set) and
+the held-out transfer-function table, read from the committed results of the training studies in
+``Training/results/`` when present; not re-measured.
 
 results.json: ``training`` (table stem -> the file read, or None) and ``training_tables`` (per
 table: the file's text and whether git tracks it unchanged), so the section re-renders without
@@ -17,7 +18,12 @@ from .scenes import Bench
 
 TABLES = (("Table 2", "unet", "autoencoder (U-Net) baseline vs ours"),
           ("Table 3", "loo", "leave-one-out generalization"),
-          ("Table 4", "ablation", "auxiliary-feature ablation"))
+          ("Table 4", "ablation", "auxiliary-feature ablation"),
+          ("Table 3, second data set", "v2-loo",
+           "leave-one-volume-out on seven volumes with random transfer functions"),
+          ("Table 4, second data set", "v2-features", "auxiliary-feature and loss ablation"),
+          ("Held-out transfer functions", "heldout_tf", "ours against OIDN fast on transfer "
+           "functions never seen in training"))
 
 
 def tracked(path: Path) -> str:
@@ -53,7 +59,7 @@ def missing(results: Mapping[str, Any]) -> List[str]:
 
 def render(results: Mapping[str, Any], args: argparse.Namespace,
            out: Output) -> Tuple[List[str], Dict[str, Any]]:
-    md = ["## 3. Paper Tables 2, 3, 4: training studies", "",
+    md = ["## 3. Paper Tables 2, 3, 4: training studies, held-out transfer functions", "",
           "Read from the results of the training studies (issue #5) in "
           "`Training/results/` when present (committed unless marked); not re-measured "
           "by this script.", ""]
