@@ -370,9 +370,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     args = parse_args(argv)
     args.data = args.data or default_data(args.study)
-    experiments = STUDIES[args.study]
-    if args.study == "v2-loo":
-        experiments = v2_loo(args.holdout or data_datasets(args.data))
+    experiments = v2_loo(args.holdout or data_datasets(args.data)) \
+        if args.study == "v2-loo" else STUDIES[args.study]
     outs = [run_dir(args.runs, args.study, e.name) for e in experiments]
     start = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
