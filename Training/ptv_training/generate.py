@@ -84,6 +84,17 @@ def _rng(seed: int, dataset: str, index: int, stream: int = 0) -> np.random.Gene
     return np.random.default_rng(int.from_bytes(key[:8], "little"))
 
 
+def render_fields(rng: np.random.Generator, size: int, reference_spp: int) -> Dict[str, Any]:
+    """What every view has besides its scene: the input and reference seeds (the next two draws
+    of ``rng``), the size and the sample counts."""
+    return {"input_seed": int(rng.integers(1, 2**31 - 1)),
+            "reference_seed": int(rng.integers(1, 2**31 - 1)),
+            "size": [size, size],
+            "reference_spp": int(reference_spp),
+            "input_spp": list(exr_io.INPUT_SPP),
+            "baseline_spp": 16}
+
+
 def random_view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
                            histogram: Dict[str, List[float]], split: str = "train",
                            elevation_limit: float = 75.0) -> Dict[str, Any]:
@@ -111,12 +122,7 @@ def random_view_parameters(dataset: str, index: int, seed: int, size: int, refer
                   "elevation": float(rng.uniform(-30.0, 80.0)),
                   "intensity": float(rng.uniform(0.4, 1.6))},
         "background": background,
-        "input_seed": int(rng.integers(1, 2**31 - 1)),
-        "reference_seed": int(rng.integers(1, 2**31 - 1)),
-        "size": [size, size],
-        "reference_spp": int(reference_spp),
-        "input_spp": list(exr_io.INPUT_SPP),
-        "baseline_spp": 16,
+        **render_fields(rng, size, reference_spp),
     }
 
 
@@ -148,12 +154,7 @@ def view_parameters(dataset: str, index: int, seed: int, size: int, reference_sp
                   "elevation": float(rng.uniform(15.0, 80.0)),
                   "intensity": float(rng.uniform(0.7, 1.3))},
         "background": list(BACKGROUND),
-        "input_seed": int(rng.integers(1, 2**31 - 1)),
-        "reference_seed": int(rng.integers(1, 2**31 - 1)),
-        "size": [size, size],
-        "reference_spp": int(reference_spp),
-        "input_spp": list(exr_io.INPUT_SPP),
-        "baseline_spp": 16,
+        **render_fields(rng, size, reference_spp),
     }
     assert len(shift) == len(anchor_groups(preset))
     return view

@@ -103,10 +103,9 @@ def ensure_views(args: argparse.Namespace) -> List[Path]:
 
 def evaluate(files: Sequence[Path], models: Sequence[Path]) -> List[Dict[str, Any]]:
     """One row per (view, method): PSNR, SSIM."""
-    import pyoidn
-
     from pathtracedvolume.metrics import quality
 
+    from .compare import oidn_fast
     from .evaluate import cpp_denoise
 
     rows: List[Dict[str, Any]] = []
@@ -117,11 +116,7 @@ def evaluate(files: Sequence[Path], models: Sequence[Path]) -> List[Dict[str, An
         images = {"noisy 1 spp": passes["Radiance"]}
         for model in models:
             images[model.stem] = cpp_denoise(model, passes, sorted(passes), threads=2)["output"]
-        images["OIDN fast"] = pyoidn.denoise(
-            np.ascontiguousarray(np.maximum(np.nan_to_num(passes["Radiance"]), 0), np.float32),
-            np.ascontiguousarray(np.clip(passes["Albedo"], 0, 1), np.float32),
-            np.ascontiguousarray(np.clip(np.nan_to_num(passes["Normal"]), -1, 1), np.float32),
-            hdr=True, quality="fast")
+        images["OIDN fast"] = oidn_fast(passes)
         images["16 spp"] = view["spp16"]
         for method, image in images.items():
             p, s = quality(view["reference"], image)
