@@ -71,7 +71,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--model", nargs="*", default=[], metavar="NAME=FILE",
                    help="ONNX models to compare, each named")
     p.add_argument("--out", type=Path,
-                   default=REPO_ROOT / "Training" / "results" / "v2_validation", help="write OUT.md and OUT.json (default Training/results/v2_validation)")
+                   default=REPO_ROOT / "Training" / "results" / "v2_validation",
+                   help="write OUT.md and OUT.json (default Training/results/v2_validation)")
     args = p.parse_args(argv)
     if args.levels and args.run is None:
         p.error("--levels needs --run")
