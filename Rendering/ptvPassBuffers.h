@@ -49,11 +49,8 @@ struct PassInfo
 
 const PassInfo& GetPassInfo(int pass);
 
-/// A depth below this fraction of the far distance is a hit (features.py: HIT_FRACTION); misses
-/// are stored at the far distance itself.
-constexpr float kHitFraction = 0.999f;
-
-/// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far.
+/// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far
+/// (kHitFraction: Kernels/ptvTraceParams.h).
 inline bool IsHit(float depth, float far)
 {
   return depth < kHitFraction * far;

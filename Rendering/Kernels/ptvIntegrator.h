@@ -18,7 +18,14 @@
  *     (0, 1] (always drawn). The camera ray through (x + ux, y + uy) (see ptvCamera.h) is moved
  *     to index space (origin by WorldToIndex, unit direction as a vector), so index position =
  *     oIdx + t dIdx with t in WORLD distance. [tStart, tEnd] = [max(tEnter, 0),
- *     min(tExit, MaxDistance[pixel])] (camera inside the volume works; opaque geometry clips).
+ *     min(tExit, MaxDistance[pixel])] (camera inside the volume works; opaque geometry clips),
+ *     and with CameraBoxed further clipped to CameraBox (a distributed piece without its ghost
+ *     layers; OverSample in ptvTraceParams.h composites the pieces' samples), its xi moved so
+ *     that it samples where the ray through the whole volume (WholeBox) would (ClipToPiece).
+ *     With PieceStream k > 0, every draw after ux, uy, xi comes from MakeRng(pixel, frame, Seed
+ *     ^ PcgHash(k)): pieces share the camera ray and its samples (a pixel's coverage at a
+ *     silhouette, the discrete transmittance), and their events are independent, as one ray's
+ *     free flight is in consecutive segments: the composite is the whole ray's sample.
  *  2. Samples at t_k = tStart + (k + xi) StepWorld, k = 0, 1, ... while t_k < tEnd (one jitter
  *     per ray, so for an integer number of steps the sample count is fixed and stratified).
  *     Per sample: s = trilinear (with Nearest: nearest-voxel) scalar, (c, alpha) = table(s),
@@ -128,6 +135,39 @@ PTV_HD PTV_INLINE PTV_NOINLINE void TraceIsoSurfaces(const TraceParams& p, Vec3 
     });
 }
 
+/**
+ * A distributed piece's part of the camera ray: [t0, t1] clipped to CameraBox, and @a xi moved
+ * so that the piece samples exactly where the ray through the whole volume (WholeBox, clipped
+ * like any ray) would: at tWhole + (k + xi) StepWorld. Pieces that share xi then take the whole
+ * ray's samples between them, each sample once. False when the ray misses the piece.
+ */
+PTV_HD PTV_INLINE bool ClipToPiece(
+  const TraceParams& p, Vec3 oIdx, Vec3 dIdx, float& t0, float& t1, float& xi)
+{
+  float w0 = -kTMax, w1 = kTMax;
+  if (!(ClipSlab(oIdx.x, dIdx.x, p.WholeBox[0], p.WholeBox[1], w0, w1) &&
+        ClipSlab(oIdx.y, dIdx.y, p.WholeBox[2], p.WholeBox[3], w0, w1) &&
+        ClipSlab(oIdx.z, dIdx.z, p.WholeBox[4], p.WholeBox[5], w0, w1)))
+  {
+    return false;
+  }
+  float wStart = Max(w0, 0.f);
+  if (HasClipping(p.Clip) && !ClipInterval(p.Clip, oIdx, dIdx, wStart, w1))
+  {
+    return false;
+  }
+  if (!(ClipSlab(oIdx.x, dIdx.x, p.CameraBox[0], p.CameraBox[1], t0, t1) &&
+        ClipSlab(oIdx.y, dIdx.y, p.CameraBox[2], p.CameraBox[3], t0, t1) &&
+        ClipSlab(oIdx.z, dIdx.z, p.CameraBox[4], p.CameraBox[5], t0, t1)))
+  {
+    return false;
+  }
+  t0 = Max(t0, wStart);
+  const float shifted = xi + (wStart - t0) / p.StepWorld; // t0 + (k + xi') step on the grid
+  xi = shifted - floorf(shifted);
+  return true;
+}
+
 /// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
 /// comment; p.Frame is not read).
 PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
@@ -138,7 +178,11 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   Rng rng = MakeRng(pixel, frame, p.Seed);
   const float jx = NextFloat(rng);
   const float jy = NextFloat(rng);
-  const float xi = NextFloat(rng);
+  float xi = NextFloat(rng);
+  if (p.PieceStream != 0u)
+  {
+    rng = MakeRng(pixel, frame, p.Seed ^ PcgHash(p.PieceStream)); // the piece's own stream
+  }
   const float threshold = 1.f - NextFloat(rng); // in (0, 1]
 
   const float step = p.StepWorld;
@@ -160,6 +204,10 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   if (HasClipping(p.Clip) && !ClipInterval(p.Clip, oIdx, dIdx, tStart, tEnd))
   {
     return out;
+  }
+  if (p.CameraBoxed && !ClipToPiece(p, oIdx, dIdx, tStart, tEnd, xi))
+  {
+    return out; // a distributed piece: this ray misses this process's own part
   }
   if (!(tStart < tEnd))
   {

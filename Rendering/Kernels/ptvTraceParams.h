@@ -47,9 +47,24 @@ struct TraceParams
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
   int Nearest;          ///< 1: nearest-voxel classification (VTK_NEAREST_INTERPOLATION)
   const float* MaxDistance; ///< per-pixel ray-length limit (world distance), nullptr = none
+  /// A piece of a distributed volume (vtkPathTracedVolumeMapper::DistributedVolume): camera rays
+  /// stay inside this index-space box (x0, x1, y0, y1, z0, z1), this process's own piece; the
+  /// rest of the grid is a ghost layer that only shadow and environment rays see.
+  /// CameraBoxed == 0: camera rays cross the whole grid.
+  int CameraBoxed;
+  float CameraBox[6];
+  float WholeBox[6]; ///< with CameraBoxed: the whole volume's box (all pieces), index space
+  /// A piece's own random numbers: 0 (default) draws a sample from MakeRng(pixel, sample,
+  /// Seed) alone; k > 0 keeps that stream for the pixel jitter only (every piece traces the same
+  /// camera ray) and draws the rest from a stream of its own (independent pieces).
+  uint32_t PieceStream;
   uint32_t Seed;
   uint32_t Frame;
 };
+
+/// A depth below this fraction of the far distance is a hit (features.py: HIT_FRACTION); misses
+/// are stored at the far distance itself.
+constexpr float kHitFraction = 0.999f;
 
 struct PixelSample
 {
@@ -76,6 +91,34 @@ PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
   acc.Depth2 += s.Depth2;
   acc.Position2 = acc.Position2 + s.Position2;
   acc.Normal2 = acc.Normal2 + s.Normal2;
+}
+
+/**
+ * One sample of a pixel through two pieces of a volume, @a front first along the ray, from one
+ * sample of each along the same camera ray (same jitter and march offset, independent events:
+ * TraceParams::PieceStream): the sample of the ray through both. An event in the back piece
+ * counts only where the front one has none (Alpha 0), and the event's fields (Radiance, Alpha,
+ * Depth2, Position2, Normal2) come from the piece that holds it; the first-hit fields (Albedo,
+ * Depth1, Position1, Normal1) from the nearest piece with a first hit. Misses store @a far as
+ * their depths (Camera.FarDistance). Single samples only: for means of several samples the
+ * product of the front's coverage and the back's radiance is not the mean of the products.
+ */
+PTV_HD PTV_INLINE PixelSample OverSample(const PixelSample& front, const PixelSample& back,
+  float far)
+{
+  PixelSample o;
+  const float keep = 1.f - front.Alpha; // no event in front: the back piece's event counts
+  o.Radiance = front.Radiance + back.Radiance * keep;
+  o.Alpha = front.Alpha + back.Alpha * keep;
+  o.Depth2 = front.Depth2 + (back.Depth2 - far) * keep; // a miss stores far: remove it
+  o.Position2 = front.Position2 + back.Position2 * keep;
+  o.Normal2 = front.Normal2 + back.Normal2 * keep;
+  const float keep1 = front.Depth1 < kHitFraction * far ? 0.f : 1.f;
+  o.Albedo = front.Albedo + back.Albedo * keep1;
+  o.Depth1 = front.Depth1 + (back.Depth1 - far) * keep1;
+  o.Position1 = front.Position1 + back.Position1 * keep1;
+  o.Normal1 = front.Normal1 + back.Normal1 * keep1;
+  return o;
 }
 
 /// acc *= w, field by field.
