@@ -234,11 +234,123 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   this->Dependent = dependent;
   std::copy(dims, dims + 3, this->Dims);
   std::copy(range, range + 2, this->Range);
+  std::copy(range, range + 2, this->LocalRange);
+  std::copy(this->ColorRange, this->ColorRange + 2, this->LocalColorRange);
+  this->Whole = false;
   this->VolumeArray = scalars;
   this->VolumeTime = t;
   ++this->VolumeVersion;
   this->TransferTime = 0; // the tables span the scalar range: rebuild them
   this->BrickRanges.clear();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FrameInputs::SetWholeVolume(
+  const double ranges[4], const double bounds[6], const double extent[6])
+{
+  const double* range = ranges ? ranges : this->LocalRange;
+  const double* colorRange = ranges ? ranges + 2 : this->LocalColorRange;
+  if (!std::equal(range, range + 2, this->Range) ||
+    !std::equal(colorRange, colorRange + 2, this->ColorRange))
+  {
+    std::copy(range, range + 2, this->Range);
+    std::copy(colorRange, colorRange + 2, this->ColorRange);
+    this->TransferTime = 0; // the tables span the range: rebuild them
+  }
+  this->Whole = bounds != nullptr && extent != nullptr;
+  if (this->Whole)
+  {
+    std::copy(bounds, bounds + 6, this->WholeBounds);
+    std::copy(extent, extent + 6, this->WholeExtent);
+  }
+}
+
+//------------------------------------------------------------------------------
+void FrameInputs::GetLocalRanges(double ranges[4]) const
+{
+  std::copy(this->LocalRange, this->LocalRange + 2, ranges);
+  std::copy(this->LocalColorRange, this->LocalColorRange + 2, ranges + 2);
+}
+
+//------------------------------------------------------------------------------
+PieceView FrameInputs::GetPieceView(const TraceParams& p) const
+{
+  PieceView view;
+  view.Box = this->OwnBox;
+  const Vec3 eye = TransformPoint(p.Volume.WorldToIndex, p.Camera.Eye);
+  Vec3 origin, dir;
+  GenerateRay(p.Camera, 0.5f * static_cast<float>(p.Camera.Width),
+    0.5f * static_cast<float>(p.Camera.Height), origin, dir);
+  const Vec3 d = TransformVector(p.Volume.WorldToIndex, dir);
+  const float e[3] = { eye.x, eye.y, eye.z };
+  const float v[3] = { d.x, d.y, d.z };
+  for (int a = 0; a < 3; ++a)
+  {
+    view.Eye[a] = e[a] + this->IndexOffset[a];
+    view.Dir[a] = v[a];
+  }
+  view.Parallel = p.Camera.Parallel != 0;
+  view.Far = p.Camera.FarDistance;
+  return view;
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::SetPiece(const FrameSettings& settings, vtkImageData* image, TraceParams& p,
+  FrameSignature& signature, std::string& error)
+{
+  int extent[6];
+  image->GetExtent(extent);
+  const int* piece = settings.PieceExtent;
+  const bool whole = piece[0] > piece[1] || piece[2] > piece[3] || piece[4] > piece[5];
+  for (int a = 0; a < 3; ++a)
+  {
+    this->IndexOffset[a] = extent[2 * a];
+    if (!whole && (piece[2 * a] < extent[2 * a] || piece[2 * a + 1] > extent[2 * a + 1]))
+    {
+      std::ostringstream msg;
+      msg << "PieceExtent (" << piece[0] << ", " << piece[1] << ", " << piece[2] << ", "
+          << piece[3] << ", " << piece[4] << ", " << piece[5]
+          << ") is not inside the input's extent (" << extent[0] << ", " << extent[1] << ", "
+          << extent[2] << ", " << extent[3] << ", " << extent[4] << ", " << extent[5] << ")";
+      error = msg.str();
+      return false;
+    }
+  }
+  const int* own = whole ? extent : piece;
+  if (!whole && this->Whole)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (piece[2 * a] < this->WholeExtent[2 * a] || piece[2 * a + 1] > this->WholeExtent[2 * a + 1])
+      {
+        std::ostringstream msg;
+        msg << "PieceExtent (" << piece[0] << ", " << piece[1] << ", " << piece[2] << ", "
+            << piece[3] << ", " << piece[4] << ", " << piece[5]
+            << ") is not inside the WholeExtent (" << this->WholeExtent[0] << ", "
+            << this->WholeExtent[1] << ", " << this->WholeExtent[2] << ", "
+            << this->WholeExtent[3] << ", " << this->WholeExtent[4] << ", "
+            << this->WholeExtent[5] << ")";
+        error = msg.str();
+        return false;
+      }
+    }
+  }
+  p.CameraBoxed = whole || std::equal(piece, piece + 6, extent) ? 0 : 1;
+  for (int i = 0; i < 6; ++i)
+  {
+    const double first = extent[2 * (i / 2)]; // the kernel's index 0
+    this->OwnBox[i] = own[i];
+    p.CameraBox[i] = static_cast<float>(own[i] - first);
+    p.WholeBox[i] = static_cast<float>((this->Whole ? this->WholeExtent[i] : own[i]) - first);
+  }
+  if (this->Whole)
+  {
+    signature.AddExact(this->WholeExtent, 6);
+  }
+  const double box[6] = { this->OwnBox[0], this->OwnBox[1], this->OwnBox[2], this->OwnBox[3],
+    this->OwnBox[4], this->OwnBox[5] };
+  signature.AddExact(box, 6);
   return true;
 }
 
@@ -366,6 +478,15 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return false;
   }
   vol->GetBounds(this->WorldBounds);
+  if (this->Whole)
+  {
+    std::copy(this->WholeBounds, this->WholeBounds + 6, this->WorldBounds);
+    signature.AddApproximate(this->WorldBounds, 6);
+  }
+  if (!this->SetPiece(settings, image, p, signature, error))
+  {
+    return false;
+  }
   SetClipping(settings, image, g, p.Clip, signature);
   p.Iso = settings.Iso;
   const double isoCount = static_cast<double>(p.Iso.Count);

@@ -13,6 +13,7 @@
 #define ptvFrameInputs_h
 
 #include "Kernels/ptvIntegrator.h"
+#include "ptvPieces.h"
 
 #include "vtkType.h"
 
@@ -50,6 +51,12 @@ struct FrameSettings
   int CroppingFlags = 0;
   /// Isosurface blend mode: the property's iso values (sorted, at most 8); Count 0: composite.
   IsoSurfaces Iso;
+  /// A piece of a distributed volume: this process's own extent (structured point indices)
+  /// inside the image's, which camera rays stay in (the rest is a ghost layer). Empty (x0 > x1,
+  /// the default): the whole image.
+  int PieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  /// The whole volume's extent (all pieces); empty: the union of the processes' pieces.
+  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
 };
 
 /**
@@ -123,22 +130,51 @@ public:
     int width, int height, const std::vector<float>& zbuffer, TraceParams& params,
     FrameSignature& signature, std::string& error);
 
+  /**
+   * A piece of a distributed volume: span the tables over the whole volume's scalar ranges
+   * (@a ranges: the scalars', then the colour channel's), light it by the whole volume's world
+   * @a bounds, and sample camera rays on the grid of the whole volume's @a extent (structured
+   * point indices), so that every piece classifies, lights and samples alike; nullptr: this
+   * image's own (the default). Call before UpdateTransfer.
+   */
+  void SetWholeVolume(const double ranges[4], const double bounds[6], const double extent[6]);
+
+  /// This image's own scalar ranges (the scalars', then the colour channel's), valid after
+  /// UpdateVolume.
+  void GetLocalRanges(double ranges[4]) const;
+
   /// Changes whenever the float copy of the voxels is rebuilt (device copies key on it).
   unsigned long long GetVolumeVersion() const { return this->VolumeVersion; }
+
+  /// Where this piece lies, for compositing (valid after Build): its own box in the volume's
+  /// structured coordinates, and the camera seen in them.
+  PieceView GetPieceView(const TraceParams& params) const;
 
   /// World-space axis-aligned bounds of the volume (valid after Build()).
   const double* GetWorldBounds() const { return this->WorldBounds; }
 
 private:
+  /// The camera rays' box of a distributed piece (FrameSettings::PieceExtent); false + @a error
+  /// when the piece does not lie inside @a image.
+  bool SetPiece(const FrameSettings& settings, vtkImageData* image, TraceParams& p,
+    FrameSignature& signature, std::string& error);
+
   vtkMTimeType VolumeTime = 0;
   unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
   vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
   std::vector<float> Scalars;
   int Dims[3] = { 0, 0, 0 };
-  double Range[2] = { 0, 1 };
+  double Range[2] = { 0, 1 };      ///< the tables' range: LocalRange, or the whole volume's
+  double LocalRange[2] = { 0, 1 }; ///< the scalars' own range
   bool Dependent = false;
   std::vector<float> ColorScalars; ///< 2-component colour data: the colour channel
   double ColorRange[2] = { 0, 1 }; ///< its range (the colour table spans it)
+  double LocalColorRange[2] = { 0, 1 };
+  bool Whole = false;              ///< SetWholeVolume gave the ranges and bounds
+  double WholeBounds[6] = { 0, 0, 0, 0, 0, 0 };
+  double WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  double IndexOffset[3] = { 0, 0, 0 }; ///< the image's first point in structured coordinates
+  PieceBox OwnBox = { { 0, -1, 0, -1, 0, -1 } }; ///< structured coordinates
   std::vector<float> Colors;       ///< 4-component colour data: RGB per voxel
   std::vector<float> ColorRGBA;    ///< the colour function over ColorRange (alpha unused)
 

@@ -2,6 +2,7 @@
 
 #include "ptvKernelDispatch.h"
 
+#include "vtkImageData.h"
 #include "vtkRenderer.h"
 #include "vtkTimerLog.h"
 #include "vtkVolume.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace ptv
@@ -60,6 +62,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   // Several processes: the same decisions everywhere (process 0's) and threads shared per host;
   // only process 0 accumulates, denoises (Combine) and draws (below).
   this->Parallel.SetController(asked.Controller);
+  this->Parallel.SetDistributed(asked.Distributed);
   FrameRequest request = asked;
   request.Threads = this->Parallel.Threads(asked.Threads);
   request.Still = this->Parallel.Agree(asked.Still) != 0;
@@ -76,46 +79,84 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     }
   };
 
-  // 1. Scene -> kernel inputs.
-  if (scalars && cellScalars)
-  {
-    fail("cell scalars are not supported; convert them with vtkCellDataToPointData");
-    return;
-  }
+  // 1. Scene -> kernel inputs. With several processes every one takes part in each collective
+  // call below, whether or not its own inputs are usable; any failure stops everyone's frame.
   std::string error;
   vtkIdType nonFinite = 0;
   vtkVolumeProperty* property = vol->GetProperty();
   const bool dependent = property && !property->GetIndependentComponents();
-  if (!this->Inputs.UpdateVolume(image, scalars, dependent, error, nonFinite) ||
-    !this->Inputs.UpdateTransfer(
-      vol->GetProperty(), request.Scene.EmptySpaceSkipping, request.Scene.Iso, error))
+  bool ok = true;
+  if (scalars && cellScalars)
   {
-    fail(error);
-    return;
+    error = "cell scalars are not supported; convert them with vtkCellDataToPointData";
+    ok = false;
   }
-  if (nonFinite > 0 && nonFinite != this->LastNonFinite)
+  ok = ok && this->Inputs.UpdateVolume(image, scalars, dependent, error, nonFinite);
+  if (request.Distributed)
+  {
+    // Every piece classifies over the whole volume's range, is lit by its bounds, and samples
+    // its camera rays on the whole volume's grid (its extent: WholeExtent, or the union of the
+    // pieces').
+    double ranges[4], bounds[6], extent[6];
+    const double inf = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 6; ++i)
+    {
+      bounds[i] = extent[i] = ranges[i % 4] = i % 2 ? -inf : inf; // neutral: (inf, -inf)
+    }
+    if (ok)
+    {
+      this->Inputs.GetLocalRanges(ranges);
+      vol->GetBounds(bounds);
+      auto empty = [](const int* e) { return e[0] > e[1] || e[2] > e[3] || e[4] > e[5]; };
+      const int* piece = request.Scene.PieceExtent;
+      const int* given = request.Scene.WholeExtent;
+      const int* own = empty(given) ? (empty(piece) ? image->GetExtent() : piece) : given;
+      std::copy(own, own + 6, extent);
+    }
+    const bool all = this->Parallel.Share(ok, ranges, bounds, extent);
+    if (ok && all)
+    {
+      this->Inputs.SetWholeVolume(ranges, bounds, extent);
+    }
+    ok = ok && all;
+  }
+  else if (ok)
+  {
+    this->Inputs.SetWholeVolume(nullptr, nullptr, nullptr);
+  }
+  ok = ok &&
+    this->Inputs.UpdateTransfer(
+      vol->GetProperty(), request.Scene.EmptySpaceSkipping, request.Scene.Iso, error);
+  if (ok && nonFinite > 0 && nonFinite != this->LastNonFinite)
   {
     messages.emplace_back(false,
       std::to_string(nonFinite) + " voxels are NaN or infinite; they are rendered transparent.");
   }
-  this->LastNonFinite = nonFinite;
+  if (ok)
+  {
+    this->LastNonFinite = nonFinite;
+  }
 
   int width = 0, height = 0, x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
-  if (width <= 0 || height <= 0)
-  {
-    return; // a zero-size viewport shows nothing; not an error
-  }
-  this->ZBuffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-  if (!Display::ReadDepth(ren, x0, y0, width, height, this->ZBuffer.data()))
-  {
-    this->ZBuffer.clear(); // no opaque-geometry clipping this frame
-  }
   FrameSignature signature;
-  if (!this->Inputs.Build(ren, vol, image, request.Scene, width, height, this->ZBuffer,
-        this->Params, signature, error))
+  const bool empty = width <= 0 || height <= 0; // shows nothing; not an error
+  if (ok && !empty)
+  {
+    this->ZBuffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    if (!Display::ReadDepth(ren, x0, y0, width, height, this->ZBuffer.data()))
+    {
+      this->ZBuffer.clear(); // no opaque-geometry clipping this frame
+    }
+    ok = this->Inputs.Build(ren, vol, image, request.Scene, width, height, this->ZBuffer,
+      this->Params, signature, error);
+  }
+  if (!ok && !error.empty())
   {
     fail(error);
+  }
+  if (!this->Parallel.AllTrue(ok && !empty) || !ok || empty)
+  {
     return;
   }
   this->LastError.clear();
@@ -168,8 +209,36 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   const int samples = request.Scene.SamplesPerFrame;
   const unsigned int firstSample = this->Parallel.FirstSample(this->SampleFrames, samples);
   std::string problem;
-  this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(), firstSample, samples,
-    request.Threads, UsePortableKernels(false), request.Backend, this->Frame, problem);
+  this->Params.PieceStream = this->Parallel.PieceStream();
+  const PieceView piece = this->Inputs.GetPieceView(this->Params);
+  bool keep = false;
+  if (this->Parallel.IsDistributed() && this->Parallel.IsParallel() && samples > 1)
+  {
+    // Pieces are composited sample by sample: a pixel's coverage in one piece and what lies
+    // behind it in the next are correlated through the shared camera ray, so the "over" of two
+    // means of several samples would not be the mean of the samples' "over".
+    this->Sample.Resize(this->Params.Camera.Width, this->Params.Camera.Height);
+    for (int s = 0; s < samples; ++s)
+    {
+      this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(),
+        firstSample + static_cast<unsigned int>(s), 1, request.Threads, UsePortableKernels(false),
+        request.Backend, this->Sample, problem);
+      if (this->Parallel.GatherFrame(this->Sample, kTracedPassCount, piece, request.Threads))
+      {
+        this->Frame.Resize(this->Sample.GetWidth(), this->Sample.GetHeight());
+        this->Frame.Accumulate(this->Sample, s + 1); // the frame's running mean
+        keep = true;
+      }
+    }
+  }
+  else
+  {
+    this->Tracer.Trace(this->Params, this->Inputs.GetVolumeVersion(), firstSample, samples,
+      request.Threads, UsePortableKernels(false), request.Backend, this->Frame, problem);
+    // Several processes: process 0 gets the whole frame (their mean, or their pieces
+    // composited) and accumulates it; the others only trace.
+    keep = this->Parallel.GatherFrame(this->Frame, kTracedPassCount, piece, request.Threads);
+  }
   if (!problem.empty() && problem != this->BackendProblem)
   {
     messages.emplace_back(true, problem);
@@ -178,8 +247,7 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   ++this->SampleFrames;
   ++this->AccumulatedFrames;
   ++this->LastRenderFrames;
-  // Several processes: process 0 gets their mean and accumulates it; the others only trace.
-  if (this->Parallel.GatherFrame(this->Frame, kTracedPassCount))
+  if (keep)
   {
     this->AccumulateFrame(request);
   }

@@ -18,11 +18,13 @@
  *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
  *  6. ptvDisplay -- which is drawn into the render window.
  * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
- * loop's messages into vtkErrorMacro / vtkWarningMacro. With several processes (MPI ranks, each
- * with the whole volume: FrameRequest::Controller), each traces its own samples of every frame
- * and 3. starts by averaging the frames over the processes on process 0 (ptvRanks), which alone
- * accumulates, denoises and draws; its decisions (restart, trace, stop a still render) are
- * everyone's.
+ * loop's messages into vtkErrorMacro / vtkWarningMacro. With several processes (MPI ranks:
+ * FrameRequest::Controller), each traces its own samples of every frame and 3. starts on
+ * process 0 by averaging the frames over the processes (each with the whole volume) or by
+ * compositing their pieces in view order (FrameRequest::Distributed; 1. then shares the whole
+ * volume's scalar range and bounds) (ptvRanks); process 0 alone accumulates, denoises and draws;
+ * its decisions (restart, trace, stop a still render) are everyone's, and a process whose
+ * inputs fail stops every process's frame.
  */
 #ifndef ptvFrameLoop_h
 #define ptvFrameLoop_h
@@ -75,6 +77,8 @@ struct FrameRequest
   /// Processes that trace each frame together, each with the whole volume (ptvRanks.h);
   /// nullptr: this process alone.
   vtkMultiProcessController* Controller = nullptr;
+  /// Each process holds its own piece (Scene.PieceExtent plus ghost layers) instead.
+  bool Distributed = false;
 };
 
 /// What a frame asks the mapper to report, in order: (true = error, false = warning, text).
@@ -143,6 +147,7 @@ private:
   FrameSignature Signature; ///< of the frame that started the accumulation (or the view)
   TracerRunner Tracer;
   PassBuffers Frame;
+  PassBuffers Sample; ///< distributed pieces, SamplesPerFrame > 1: one sample at a time
   PassBuffers Accumulated;
   Reprojection History;
   CameraRays AccumulatedCamera{}; ///< the camera of the accumulated passes

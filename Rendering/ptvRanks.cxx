@@ -66,16 +66,70 @@ int Ranks::Threads(int requested)
 //------------------------------------------------------------------------------
 unsigned int Ranks::FirstSample(unsigned int frame, int samples) const
 {
+  if (this->Distributed)
+  {
+    // Every piece traces the same camera rays; PieceStream() keeps the rest independent.
+    return frame * static_cast<unsigned int>(samples);
+  }
   return (frame * static_cast<unsigned int>(this->Size) + static_cast<unsigned int>(this->Rank)) *
     static_cast<unsigned int>(samples);
 }
 
 //------------------------------------------------------------------------------
-bool Ranks::GatherFrame(PassBuffers& frame, int passes)
+bool Ranks::Share(bool ok, double ranges[4], double bounds[6], double extent[6])
+{
+  if (!this->IsParallel())
+  {
+    return ok;
+  }
+  // One MIN reduction: ok, then (min, max) pairs as (min, -max).
+  constexpr int kCount = 1 + 4 + 6 + 6;
+  double local[kCount];
+  double* pairs[3] = { ranges, bounds, extent };
+  const int sizes[3] = { 4, 6, 6 };
+  local[0] = ok ? 1.0 : 0.0;
+  for (int a = 0, k = 1; a < 3; ++a)
+  {
+    for (int i = 0; i < sizes[a]; ++i, ++k)
+    {
+      local[k] = (i % 2 ? -1.0 : 1.0) * pairs[a][i];
+    }
+  }
+  double all[kCount];
+  this->Controller->AllReduce(local, all, kCount, vtkCommunicator::MIN_OP);
+  for (int a = 0, k = 1; a < 3; ++a)
+  {
+    for (int i = 0; i < sizes[a]; ++i, ++k)
+    {
+      pairs[a][i] = (i % 2 ? -1.0 : 1.0) * all[k];
+    }
+  }
+  return all[0] > 0.0;
+}
+
+//------------------------------------------------------------------------------
+bool Ranks::AllTrue(bool ok)
+{
+  if (!this->IsParallel())
+  {
+    return ok;
+  }
+  int local = ok ? 1 : 0;
+  int all = 0;
+  this->Controller->AllReduce(&local, &all, 1, vtkCommunicator::MIN_OP);
+  return all != 0;
+}
+
+//------------------------------------------------------------------------------
+bool Ranks::GatherFrame(PassBuffers& frame, int passes, const PieceView& piece, int threads)
 {
   if (!this->IsParallel())
   {
     return true;
+  }
+  if (this->Distributed)
+  {
+    return this->CompositeFrame(frame, passes, piece, threads);
   }
   const std::size_t pixels =
     static_cast<std::size_t>(frame.GetWidth()) * static_cast<std::size_t>(frame.GetHeight());
@@ -96,6 +150,46 @@ bool Ranks::GatherFrame(PassBuffers& frame, int passes)
     }
   }
   return this->Rank == 0;
+}
+
+//------------------------------------------------------------------------------
+bool Ranks::CompositeFrame(PassBuffers& frame, int passes, const PieceView& piece, int threads)
+{
+  static_assert(sizeof(this->Gathered) / sizeof(this->Gathered[0]) == kTracedPassCount,
+    "one gather buffer per traced pass");
+  const std::size_t pixels =
+    static_cast<std::size_t>(frame.GetWidth()) * static_cast<std::size_t>(frame.GetHeight());
+  const std::size_t size = static_cast<std::size_t>(this->Size);
+  const bool root = this->Rank == 0;
+  // Each piece's box and far distance.
+  constexpr int kMeta = 7;
+  double meta[kMeta];
+  std::copy(piece.Box.begin(), piece.Box.end(), meta);
+  meta[6] = piece.Far;
+  std::vector<double> metas(root ? kMeta * size : 0);
+  this->Controller->Gather(meta, metas.data(), kMeta, 0);
+  std::vector<const float*> gathered(kTracedPassCount);
+  for (int p = 0; p < passes && p < kTracedPassCount; ++p)
+  {
+    const std::size_t n = pixels * static_cast<std::size_t>(GetPassInfo(p).Components);
+    this->Gathered[p].resize(root ? n * size : 0);
+    this->Controller->Gather(frame.Data(p), this->Gathered[p].data(), static_cast<vtkIdType>(n), 0);
+    gathered[p] = this->Gathered[p].data();
+  }
+  if (!root)
+  {
+    return false;
+  }
+  std::vector<PieceBox> boxes(size);
+  std::vector<float> fars(size);
+  for (std::size_t r = 0; r < size; ++r)
+  {
+    std::copy(metas.begin() + kMeta * r, metas.begin() + kMeta * r + 6, boxes[r].begin());
+    fars[r] = static_cast<float>(metas[kMeta * r + 6]);
+  }
+  const std::vector<int> order = ViewOrder(boxes, piece.Eye, piece.Dir, piece.Parallel);
+  CompositePieces(gathered, pixels, order, fars, piece.Far, threads, frame);
+  return true;
 }
 
 //------------------------------------------------------------------------------

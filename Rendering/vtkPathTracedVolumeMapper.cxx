@@ -324,6 +324,17 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
 double* vtkPathTracedVolumeMapper::GetBounds()
 {
   double* bounds = this->Superclass::GetBounds();
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetDataSetInput());
+  const int* w = this->WholeExtent;
+  if (this->DistributedVolume && input && w[0] <= w[1] && w[2] <= w[3] && w[4] <= w[5])
+  {
+    // Process 0 draws the whole composited volume: its bounds, not this piece's.
+    vtkNew<vtkImageData> whole;
+    whole->CopyStructure(input);
+    whole->SetExtent(this->WholeExtent);
+    whole->GetBounds(this->Bounds);
+    bounds = this->Bounds;
+  }
   const bool finite = std::all_of(bounds, bounds + 6, [](double v) { return std::isfinite(v); });
   if (finite)
   {
@@ -382,6 +393,12 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.MaximumHistory = this->MaximumHistory;
     request.Threads = this->NumberOfThreads;
     request.Controller = this->Internals->Controller;
+    request.Distributed = this->DistributedVolume != 0;
+    if (this->DistributedVolume)
+    {
+      std::copy(this->PieceExtent, this->PieceExtent + 6, scene.PieceExtent);
+      std::copy(this->WholeExtent, this->WholeExtent + 6, scene.WholeExtent);
+    }
     request.Backend = this->Backend;
     request.Denoise = this->Denoise;
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
@@ -481,6 +498,13 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
             ? std::to_string(this->Internals->Controller->GetNumberOfProcesses()) + " processes"
             : std::string("(none)"))
      << "\n";
+  os << indent << "DistributedVolume: " << this->DistributedVolume << "\n";
+  os << indent << "PieceExtent: " << this->PieceExtent[0] << ", " << this->PieceExtent[1] << ", "
+     << this->PieceExtent[2] << ", " << this->PieceExtent[3] << ", " << this->PieceExtent[4]
+     << ", " << this->PieceExtent[5] << "\n";
+  os << indent << "WholeExtent: " << this->WholeExtent[0] << ", " << this->WholeExtent[1] << ", "
+     << this->WholeExtent[2] << ", " << this->WholeExtent[3] << ", " << this->WholeExtent[4]
+     << ", " << this->WholeExtent[5] << "\n";
   os << indent << "Denoise: " << this->Denoise << "\n";
   os << indent << "DenoiserModelFile: "
      << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";

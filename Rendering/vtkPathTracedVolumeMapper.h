@@ -295,6 +295,48 @@ public:
 
   ///@{
   /**
+   * A volume too large for one process (off by default: every process holds the whole volume,
+   * above). On, each process's input is its own piece, PieceExtent, plus ghost layers around
+   * it: camera rays cross only the piece, shadow and environment rays the ghost layers as well
+   * (nothing beyond them). Each process traces its piece with its own random numbers (block
+   * f * N + r as above, SamplesPerFrame samples per frame in all), and process 0 composites the
+   * pieces' traced passes in view order -- the premultiplied "over" of their events, the first
+   * hit of the nearest piece that has one -- into the frame of the whole volume, which it
+   * accumulates, denoises and draws as above. The processes share the whole volume's scalar
+   * range (the transfer function's table spans it) and bounds (the default light). Without a
+   * Controller the one process traces its piece alone.
+   */
+  vtkSetMacro(DistributedVolume, vtkTypeBool);
+  vtkGetMacro(DistributedVolume, vtkTypeBool);
+  vtkBooleanMacro(DistributedVolume, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * With DistributedVolume: the part of the input's extent (structured point indices) that this
+   * process owns; the rest of the input is its ghost layer. Must lie inside the input's extent
+   * (else an error names both and nothing is rendered). Pieces that share a face share its
+   * points (as ParaView's do). Default (0, -1, 0, -1, 0, -1): the whole input, no ghost layer.
+   */
+  vtkSetVector6Macro(PieceExtent, int);
+  vtkGetVector6Macro(PieceExtent, int);
+  ///@}
+
+  ///@{
+  /**
+   * With DistributedVolume: the extent of the whole volume, all pieces together (structured
+   * point indices, the pipeline's WHOLE_EXTENT). Camera rays sample on its grid, and GetBounds
+   * reports its bounds, since process 0 draws the whole composited volume (a compositor that
+   * crops each process's image to its prop bounds, such as ParaView's IceT pass, then keeps
+   * all of it). Default (0, -1, 0, -1, 0, -1): the union of the processes' PieceExtents, learnt
+   * at each render, and the input's own bounds.
+   */
+  vtkSetVector6Macro(WholeExtent, int);
+  vtkGetVector6Macro(WholeExtent, int);
+  ///@}
+
+  ///@{
+  /**
    * Pass shown in the render window; empty (default) shows "Converged" (the denoised image faded
    * into the raw mean) when Denoise is on, else "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
    * depths to the range of hits (near = bright).
@@ -412,6 +454,9 @@ protected:
   double EnvironmentIntensity = 1.0;
   bool EmptySpaceSkipping = true;
   int NumberOfThreads = 0;
+  vtkTypeBool DistributedVolume = false;
+  int PieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
   int Backend = BACKEND_AUTO;
   bool Denoise = true;
   char* DenoiserModelFile = nullptr;
