@@ -1,5 +1,7 @@
 #include "vtkPTVVolumeRepresentation.h"
 
+#include "vtkCellData.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -15,6 +17,8 @@
 #include "vtkProcessModule.h"
 #include "vtkRectilinearGrid.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStructuredData.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 
@@ -24,6 +28,49 @@ vtkStandardNewMacro(vtkPTVVolumeRepresentation);
 
 namespace
 {
+/// The point extent of @a image's cells that are not ghosts (vtkGhostType without
+/// DUPLICATECELL): the first and last such cell bound it. The whole extent without ghosts.
+void OwnExtent(vtkImageData* image, int own[6])
+{
+  image->GetExtent(own);
+  auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
+    image->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()));
+  if (!ghosts || ghosts->GetNumberOfTuples() == 0)
+  {
+    return;
+  }
+  int points[6];
+  std::copy(own, own + 6, points);
+  const vtkIdType n = ghosts->GetNumberOfTuples();
+  auto owned = [&](vtkIdType c)
+  { return (ghosts->GetValue(c) & vtkDataSetAttributes::DUPLICATECELL) == 0; };
+  vtkIdType first = 0;
+  while (first < n && !owned(first))
+  {
+    ++first;
+  }
+  vtkIdType last = n - 1;
+  while (last >= 0 && !owned(last))
+  {
+    --last;
+  }
+  if (first >= n)
+  {
+    own[0] = own[2] = own[4] = 0; // every cell is a ghost: nothing of its own
+    own[1] = own[3] = own[5] = -1;
+    return;
+  }
+  int lo[3], hi[3];
+  vtkStructuredData::ComputeCellStructuredCoordsForExtent(first, points, lo);
+  vtkStructuredData::ComputeCellStructuredCoordsForExtent(last, points, hi);
+  for (int a = 0; a < 3; ++a)
+  {
+    // Cells i..j span points i..j + 1; a flat axis (one point) keeps its point.
+    own[2 * a] = lo[a];
+    own[2 * a + 1] = points[2 * a] == points[2 * a + 1] ? hi[a] : hi[a] + 1;
+  }
+}
+
 /// vtkPVView::GetInCaptureScreenshot() is protected; a member pointer taken through a subclass
 /// reads it on any view (well-defined C++, no cast of the object).
 struct CaptureFlag : vtkPVView
@@ -124,7 +171,29 @@ int vtkPTVVolumeRepresentation::RequestData(
     vtkErrorMacro(<< "Path Traced Volume renders vtkImageData only, not vtkRectilinearGrid; "
                   << "resample the data to an image (e.g. Resample To Image) first.");
   }
-  return this->Superclass::RequestData(request, inputVector, outputVector);
+  if (!this->Superclass::RequestData(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
+  vtkImageData* input = inputVector[0]->GetNumberOfInformationObjects() == 1
+    ? vtkImageData::GetData(inputVector[0], 0)
+    : nullptr;
+  if (mapper->GetDistributedVolume() && input)
+  {
+    // The base class cropped the ghost layers away; the mapper needs them (and its own part).
+    vtkSmartPointer<vtkImageData> piece;
+    piece.TakeReference(input->NewInstance());
+    piece->ShallowCopy(input);
+    int own[6];
+    OwnExtent(input, own);
+    this->Cache = piece;
+    mapper->SetPieceExtent(own);
+    // The whole volume's grid and bounds: rank 0 draws all of it (IceT crops each rank's image
+    // to its props' bounds).
+    mapper->SetWholeExtent(this->WholeExtent);
+  }
+  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -152,6 +221,7 @@ int vtkPTVVolumeRepresentation::RequestUpdateExtent(
     }
     replicate = voxels > 0.0 && 4.0 * voxels <= this->ReplicateVolumeLimit * 1048576.0;
   }
+  const bool distribute = ranks > 1 && in && !replicate;
   if (replicate)
   {
     // The whole volume here: piece 0 of 1, no ghost cells (vtkPVDataRepresentation asked for
@@ -160,7 +230,24 @@ int vtkPTVVolumeRepresentation::RequestUpdateExtent(
     in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
     in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
   }
-  this->GetPathTracedMapper()->SetController(replicate ? controller : nullptr);
+  else if (distribute)
+  {
+    // This rank's piece (as asked by the base class) with the ghost layers its light rays cross.
+    const int asked = in->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      ? in->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      : 0;
+    in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+      std::max(asked, this->GhostLayers));
+  }
+  vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
+  mapper->SetController(replicate || distribute ? controller : nullptr);
+  mapper->SetDistributedVolume(distribute);
+  if (!distribute)
+  {
+    const int whole[6] = { 0, -1, 0, -1, 0, -1 };
+    mapper->SetPieceExtent(whole);
+    mapper->SetWholeExtent(whole);
+  }
   return 1;
 }
 
@@ -172,6 +259,17 @@ void vtkPTVVolumeRepresentation::SetReplicateVolumeLimit(double megabytes)
   {
     this->ReplicateVolumeLimit = megabytes;
     this->MarkModified(); // a new update decides again
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetGhostLayers(int layers)
+{
+  layers = std::max(layers, 0);
+  if (this->GhostLayers != layers)
+  {
+    this->GhostLayers = layers;
+    this->MarkModified(); // a new update reads the new layers
   }
 }
 
@@ -423,6 +521,7 @@ void vtkPTVVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UnsupportedInput: " << this->UnsupportedInput << endl;
   os << indent << "DisplayPass: " << this->GetDisplayPass() << endl;
   os << indent << "ReplicateVolumeLimit: " << this->ReplicateVolumeLimit << " MB" << endl;
+  os << indent << "GhostLayers: " << this->GhostLayers << endl;
   os << indent << "PassesFileName: " << (this->PassesFileName ? this->PassesFileName : "(none)")
      << endl;
   os << indent << "PathTracedMapper:" << endl;

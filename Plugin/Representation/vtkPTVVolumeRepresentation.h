@@ -167,12 +167,26 @@ public:
    * Parallel runs (pvbatch or pvserver under MPI with N > 1 ranks): a volume of at most this
    * many megabytes (voxels x 4 bytes) is read whole on every rank, and the ranks trace each
    * frame together (vtkPathTracedVolumeMapper::SetController: N times the samples per second,
-   * the same image as one rank with no seam between pieces); a larger one, or 0, keeps
-   * ParaView's split into one piece per rank, each traced alone (shadows, occlusion and the
-   * denoiser then stop at the piece boundaries). Default: 4096 MB.
+   * the same image as one rank with no seam between pieces). A larger one, or 0, keeps
+   * ParaView's split into one piece per rank, with GhostLayers around each piece
+   * (vtkPathTracedVolumeMapper::DistributedVolume): each rank traces camera rays through its
+   * piece, shadow and environment rays through the ghost layers as well, and rank 0 composites
+   * the pieces in view order, then denoises and draws the whole frame. Default: 4096 MB.
    */
   void SetReplicateVolumeLimit(double megabytes);
   vtkGetMacro(ReplicateVolumeLimit, double);
+  ///@}
+
+  ///@{
+  /**
+   * A volume split across ranks (above ReplicateVolumeLimit): layers of voxels each rank reads
+   * around its piece, which its shadow and environment rays cross (what lies beyond them casts
+   * no shadow into the piece). Memory per rank grows by about (1 + 2 g / d)^3 for pieces of d
+   * voxels a side. 0: shadows stop at the piece. Default: 16 (chosen by the ablation in
+   * docs/parallel.md).
+   */
+  void SetGhostLayers(int layers);
+  vtkGetMacro(GhostLayers, int);
   ///@}
 
   /// The ranks that trace this volume's frames together (1: this rank alone).
@@ -187,15 +201,17 @@ protected:
 
   /**
    * Notes whether the input is a vtkImageData; the base class also accepts vtkRectilinearGrid,
-   * which the path tracer cannot render (one error per update, and the volume is hidden).
+   * which the path tracer cannot render (one error per update, and the volume is hidden). A
+   * piece of a split volume is rendered with its ghost layers (the base class would crop them),
+   * and the mapper learns which part is the rank's own (the cells that are not ghosts).
    */
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   /**
    * In parallel runs, asks for the whole volume on every rank when it fits under
-   * ReplicateVolumeLimit (and gives the mapper the ranks to trace with), else for this rank's
-   * piece as the base class does.
+   * ReplicateVolumeLimit, else for this rank's piece as the base class does, with GhostLayers;
+   * either way the mapper gets the ranks to trace with.
    */
   int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
@@ -207,6 +223,7 @@ protected:
   bool UnsupportedInput = false;
   char* PassesFileName = nullptr;
   double ReplicateVolumeLimit = 4096.0;
+  int GhostLayers = 16;
 
   /// Empty image handed to the view as the "next streamed piece" while refinement goes on.
   vtkNew<vtkImageData> RefinementToken;

@@ -4,11 +4,12 @@
 # under Xvfb, with PTV_PLUGIN, PTV_CACHE_DIR, PTV_TEST_TEMP and PYTHONPATH set):
 #   gui_clientserver.sh <paraview> <pvserver> <gui_progressive_refinement.py>
 # PTV_SERVER_RANKS=N (> 1) starts the server as `mpirun -np N pvserver` (the ranks trace each
-# frame together). Fails when the GUI test fails or the server logs an error or warning.
+# frame together; with PTV_SERVER_SPLIT=1 the script splits the volume across them). Fails when
+# the GUI test fails or the server logs an error or warning.
 set -u
 paraview="$1" pvserver="$2" script="$3"
 ranks="${PTV_SERVER_RANKS:-1}"
-log="${PTV_TEST_TEMP:-.}/gui_clientserver_pvserver_$ranks.log"
+log="${PTV_TEST_TEMP:-.}/gui_clientserver_pvserver_${ranks}${PTV_SERVER_SPLIT:+_split}.log"
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 launch=()
 ((ranks > 1)) && launch=(mpirun --allow-run-as-root --oversubscribe -np "$ranks")

@@ -56,6 +56,8 @@ ColorBy(display, ("POINTS", "ImageScalars"))
 display.DenoiserUseNetwork = 0
 if REMOTE:
     view.RemoteRenderThreshold = 0  # render on the server
+if os.environ.get("PTV_SERVER_SPLIT") == "1":
+    display.ReplicateVolumeLimit = 0  # a multi-rank server splits the volume across its ranks
 display.MaximumAccumulatedFrames = FRAMES
 camera = view.GetActiveCamera()
 camera.SetPosition(0, -1, 0)

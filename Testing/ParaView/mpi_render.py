@@ -4,7 +4,8 @@ CT shown as "Path Traced Volume" (two-band preset, front view), ``--frames`` tra
 
 Arguments: ``--out DIR`` (passes.exr, screenshot.png, info.json), ``--frames F``,
 ``--size S``, ``--spp-per-frame K`` (the representation's SamplesPerFrame), ``--replicate-limit
-MB`` (ReplicateVolumeLimit; 0: each rank renders its own piece), ``--denoise 0|1``,
+MB`` (ReplicateVolumeLimit; 0: each rank renders its own piece), ``--ghost-layers G``
+(GhostLayers of such a piece), ``--seed S``, ``--denoise 0|1``,
 ``--threads T``, ``--still-budget S``. The view renders at full resolution without FXAA (pvbatch
 under MPI would otherwise reduce and smooth the composited image). Same environment as the other
 ParaView tests (PTV_PLUGIN, PTV_CACHE_DIR, PYTHONPATH). Only rank 0 runs this script; the other
@@ -27,6 +28,9 @@ parser.add_argument("--frames", type=int, default=16)
 parser.add_argument("--size", type=int, default=256)
 parser.add_argument("--spp-per-frame", type=int, default=1)
 parser.add_argument("--replicate-limit", type=float, default=None)
+parser.add_argument("--ghost-layers", type=int, default=None,
+                    help="GhostLayers of a volume split across ranks (default: the property's)")
+parser.add_argument("--seed", type=int, default=None, help="the representation's Seed")
 parser.add_argument("--denoise", type=int, default=0)
 parser.add_argument("--threads", type=int, default=0)
 parser.add_argument("--still-budget", type=float, default=0.0,
@@ -57,6 +61,10 @@ display.Denoise = args.denoise
 display.NumberOfThreads = args.threads
 if args.replicate_limit is not None:
     display.ReplicateVolumeLimit = args.replicate_limit
+if args.seed is not None:
+    display.Seed = args.seed
+if args.ghost_layers is not None:
+    display.GhostLayers = args.ghost_layers
 
 Render(view)  # the first frame (and the pipeline update)
 start = time.perf_counter()
@@ -76,7 +84,13 @@ display.SMProxy.InvokeCommand("WritePasses")
 before = frames()
 SaveScreenshot(os.path.join(args.out, "screenshot.png"), view, ImageResolution=[args.size] * 2)
 display.UpdatePropertyInformation()
-info = {"ranks": ranks, "frames": args.frames, "seconds_after_first": seconds,
+import pathtracedvolume.vtkPTVRendering  # noqa: E402,F401 (wraps the mapper's class)
+mapper = display.GetClientSideObject().GetActiveRepresentation().GetActor().GetMapper()  # rank 0
+piece = {"input_extent": list(mapper.GetInput().GetExtent()),
+         "piece_extent": list(mapper.GetPieceExtent()),
+         "whole_extent": list(mapper.GetWholeExtent()),
+         "distributed": bool(mapper.GetDistributedVolume())}
+info = {"ranks": ranks, "rank0": piece, "frames": args.frames, "seconds_after_first": seconds,
         "accumulated_before_screenshot": before, "accumulated_after_screenshot": frames(),
         "sampling_ranks": display.GetProperty("NumberOfSamplingRanks").GetData(),
         "messages": list(vtk_messages)}
