@@ -25,6 +25,31 @@ double NowMs()
 
 const std::vector<std::string> kFixedGuideChannels = { "albedo.r", "albedo.g", "albedo.b",
   "depth", "normal.x", "normal.y", "normal.z" };
+
+/// A level whose spatial step leaves fewer grid cells than this over the image only blurs it.
+constexpr double kMinimumGridCells = 16.0;
+
+/**
+ * How many of the model's @a count levels (finest first) a @a width x @a height image uses when
+ * the level count is automatic: coarser levels whose grid would have fewer than
+ * kMinimumGridCells cells over the image are dropped, the finest always stays (measured on the
+ * head CT: at 8-24 pixels a side one level beats two by 0.3-2.2 dB; at 32 the two are level).
+ * Training/ptv_training/bilateral_grid.py (fitting_levels) is the same rule.
+ */
+int FittingLevels(
+  const std::vector<std::pair<int, int>>& steps, int count, int width, int height)
+{
+  while (count > 1 && count <= static_cast<int>(steps.size()))
+  {
+    const double step = steps[static_cast<std::size_t>(count - 1)].first;
+    if ((width / step) * (height / step) >= kMinimumGridCells)
+    {
+      break;
+    }
+    --count;
+  }
+  return count;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -168,7 +193,9 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
     done = true;
     return true;
   }
-  const int levels = settings.Levels > 0 ? std::min(settings.Levels, modelLevels) : modelLevels;
+  const int levels = settings.Levels > 0
+    ? std::min(settings.Levels, modelLevels)
+    : FittingLevels(this->Session.GetLevels(), modelLevels, width, height);
   this->Levels = levels;
   this->Guides.resize(n * levels);
   this->Weights.resize(n * std::max(levels - 1, 0));

@@ -87,6 +87,9 @@ public:
   /**
    * Grid levels: 0 (default) = the model's (3 with the fixed guide, the component count of given
    * "Guides"); 1..3 uses the model's finest ones (given guides must have as many components).
+   * With 0 and the network, a small image drops the model's coarser levels whose grid would
+   * have fewer than 16 cells over it (the finest stays): there they only blur (e.g. an 8 x 8
+   * image uses the 4-pixel level alone).
    */
   vtkSetClampMacro(NumberOfLevels, int, 0, 3);
   vtkGetMacro(NumberOfLevels, int);

@@ -253,7 +253,8 @@ public:
 
   ///@{
   /**
-   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's; 1..3 = the finest.
+   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's, less those too coarse
+   * for a small image (vtkPTVDenoiser::SetNumberOfLevels); 1..3 = the finest.
    */
   vtkSetClampMacro(DenoiserNumberOfLevels, int, 0, 3);
   vtkGetMacro(DenoiserNumberOfLevels, int);

@@ -148,13 +148,16 @@ def variant_models(tmp_path_factory) -> dict:
 
 
 def torch_pipeline(passes: dict[str, np.ndarray], net: GuideNet, channels) -> np.ndarray:
-    """The reference: features -> GuideNet (pool, net, upsample) -> the torch bilateral grid."""
+    """The reference: features -> GuideNet (pool, net, upsample) -> the torch bilateral grid,
+    with the levels an image of this size uses (bilateral_grid.fitting_levels)."""
+    from ptv_training.train import run_model
     feats = torch.from_numpy(features.build_features(passes, channels))[None]
+    height, width = passes["Radiance"].shape[:2]
     with torch.no_grad():
-        guides, weights = net.split(net(feats))
         rad = torch.from_numpy(passes["Radiance"]).permute(2, 0, 1)[None]
         alb = torch.from_numpy(passes["Albedo"]).permute(2, 0, 1)[None]
-        ref = bilateral_grid.denoise(rad, alb, guides * 255.0, weights, levels=LEVELS, clamp=8.0)
+        ref, _, _ = run_model(net, feats, rad, alb, LEVELS, 8.0, True,
+                              bilateral_grid.fitting_levels(LEVELS, height, width))
     return ref[0].permute(1, 2, 0).numpy()
 
 
@@ -236,6 +239,29 @@ def test_levels_and_timings(passes, random_model) -> None:
     den.GetGuides(guides)
     assert guides.GetPointData().GetArray("Guides").GetNumberOfComponents() == 1
     assert den.GetLastGuideNetTime() > 0 and den.GetLastSplatTime() > 0
+
+
+def test_small_images_drop_coarse_levels(passes, random_model) -> None:
+    """With the automatic level count a small image drops the levels too coarse for it (fewer
+    than 16 cells of the grid over the image), the finest always stays, and the result still
+    matches the torch pipeline, which applies the same rule; an explicit count is kept."""
+    path, net, channels = random_model
+    assert bilateral_grid.fitting_levels(LEVELS, 43, 61) == 2  # 16-pixel cells: 10 < 16
+    assert bilateral_grid.fitting_levels(LEVELS, 64, 64) == 3
+    assert bilateral_grid.fitting_levels(LEVELS, 1, 1) == 1
+    assert bilateral_grid.fitting_levels(LEVELS, 7, 1000) == 3  # a strip: 109 cells of 16 px
+    for size, expected in ((8, 1), (12, 1), (24, 1), (32, 2)):
+        y0, x0 = (H - size) // 2, (W - size) // 2  # the middle of the frame
+        small = {k: np.ascontiguousarray(v[y0:y0 + size, x0:x0 + size])
+                 for k, v in passes.items()}
+        assert bilateral_grid.fitting_levels(LEVELS, size, size) == expected
+        ok, out, den, messages = cxx_denoise(small, str(path))
+        assert ok and messages == [] and f"{expected} levels" in den.GetStatus(), den.GetStatus()
+        ref = torch_pipeline(small, net, channels)
+        span = max(float(ref.max() - ref.min()), 1e-6)
+        assert float(np.abs(out - ref).max()) <= 1e-4 * span
+        ok, _, den, _ = cxx_denoise(small, str(path), NumberOfLevels=3)
+        assert ok and "3 levels" in den.GetStatus(), den.GetStatus()
 
 
 def test_fixed_guide_without_model(passes) -> None:

@@ -34,8 +34,27 @@ MAX_STEP = 256
 MIN_OUTLIER_MEAN = 1e-6
 DEFAULT_LEVELS: Tuple[Tuple[int, int], ...] = ((4, 4), (8, 8), (16, 16))
 LUMINANCE = (0.2126, 0.7152, 0.0722)
+#: A level whose spatial step leaves fewer grid cells than this over the image only blurs it.
+MIN_GRID_CELLS = 16
 
 Tensor = torch.Tensor
+
+
+def fitting_levels(levels: Sequence[Tuple[int, int]], height: int, width: int) -> int:
+    """How many of a model's ``levels`` (finest first) an image of ``height`` x ``width``
+    pixels uses when the level count is automatic: the coarser levels whose grid would have
+    fewer than MIN_GRID_CELLS cells over the image, (width / step) (height / step), are dropped;
+    the finest level always stays. Measured on the head CT (the shipped model, 1 spp against a
+    512-spp reference): at 8-24 pixels a side one level beats two by 0.3-2.2 dB; at 32 (16 cells
+    of the 8-pixel level) two are level with one. The C++ denoiser (ptvDenoiser.cxx) does the
+    same."""
+    count = len(levels)
+    while count > 1:
+        step = levels[count - 1][0]
+        if (width / step) * (height / step) >= MIN_GRID_CELLS:
+            break
+        count -= 1
+    return count
 
 
 def grid_shape(height: int, width: int, spatial_step: int,
