@@ -533,13 +533,23 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.Specular = static_cast<float>(prop->GetSpecular(0));
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
-  p.AmbientOcclusion = settings.AmbientOcclusion ? 1 : 0;
+  // Reach 0 sees no occluder at all (the unoccluded environment); 1 or more: the whole volume.
+  const double reach = settings.AmbientOcclusionReach;
+  p.AmbientOcclusion = settings.AmbientOcclusion && reach > 0.0 ? 1 : 0;
+  if (p.AmbientOcclusion && reach < 1.0)
+  {
+    const double* b = this->WorldBounds;
+    const double diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) +
+      (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+    p.EnvironmentReach = static_cast<float>(std::max(reach * diagonal, 1e-30));
+  }
   p.Nearest = this->Nearest;
   p.Seed = settings.Seed;
-  const double misc[5] = { static_cast<double>(settings.Seed),
+  const double misc[6] = { static_cast<double>(settings.Seed),
     static_cast<double>(settings.SamplesPerFrame), settings.Scattering ? 1.0 : 0.0,
-    settings.AmbientOcclusion ? 1.0 : 0.0, static_cast<double>(this->Nearest) };
-  signature.AddExact(misc, 5);
+    static_cast<double>(p.AmbientOcclusion), static_cast<double>(this->Nearest),
+    static_cast<double>(p.EnvironmentReach) };
+  signature.AddExact(misc, 6);
 
   // Opaque geometry: rays stop at the window depth already drawn.
   p.MaxDistance = SetGeometryLimits(zbuffer, p.Camera, worldFromNdc, this->MaxDistance, signature)

@@ -36,6 +36,7 @@ struct FrameSettings
   int SamplesPerFrame = 1;
   bool Scattering = true;
   bool AmbientOcclusion = true;
+  double AmbientOcclusionReach = 1.0; ///< fraction of the volume's diagonal (>= 1: unlimited)
   bool UseRendererLight = true;
   double LightIntensity = 1.0;
   double EnvironmentColor[3] = { 1, 1, 1 };

@@ -382,6 +382,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     scene.SamplesPerFrame = this->SamplesPerFrame;
     scene.Scattering = this->Scattering;
     scene.AmbientOcclusion = this->AmbientOcclusion;
+    scene.AmbientOcclusionReach = this->AmbientOcclusionReach;
     scene.UseRendererLight = this->UseRendererLight;
     scene.LightIntensity = this->LightIntensity;
     std::copy(this->EnvironmentColor, this->EnvironmentColor + 3, scene.EnvironmentColor);
@@ -485,6 +486,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
+  os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";
   os << indent << "LightIntensity: " << this->LightIntensity << "\n";
   os << indent << "EnvironmentColor: " << this->EnvironmentColor[0] << ", "

@@ -182,6 +182,17 @@ public:
 
   ///@{
   /**
+   * How far environment rays look for occluders, as a fraction of the volume's diagonal: what
+   * lies farther from an event does not darken it (local occlusion, like VTK's
+   * GlobalIlluminationReach for its shadows). 1 (default) traces them to the volume's exit;
+   * 0 leaves the environment unoccluded. Cheaper below 1: environment rays stop early.
+   */
+  vtkSetClampMacro(AmbientOcclusionReach, double, 0.0, 1.0);
+  vtkGetMacro(AmbientOcclusionReach, double);
+  ///@}
+
+  ///@{
+  /**
    * Use the renderer's first switched-on scene or camera light as key light. When off, or when
    * the renderer has only its automatic headlight, a point light is placed above the volume
    * (along the camera's view-up, 1.5 bounding-box diagonals from the centre). Default on.
@@ -448,6 +459,7 @@ protected:
   unsigned int Seed = 0;
   bool Scattering = true;
   bool AmbientOcclusion = true;
+  double AmbientOcclusionReach = 1.0;
   bool UseRendererLight = true;
   double LightIntensity = 1.0;
   double EnvironmentColor[3] = { 1.0, 1.0, 1.0 };

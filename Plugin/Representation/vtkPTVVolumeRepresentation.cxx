@@ -332,6 +332,12 @@ void vtkPTVVolumeRepresentation::SetAmbientOcclusion(bool value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetAmbientOcclusionReach(double value)
+{
+  this->GetPathTracedMapper()->SetAmbientOcclusionReach(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetUseRendererLight(bool value)
 {
   this->GetPathTracedMapper()->SetUseRendererLight(value);

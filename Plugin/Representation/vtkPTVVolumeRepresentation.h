@@ -68,6 +68,7 @@ public:
   void SetSeed(int value);
   void SetScattering(bool value);
   void SetAmbientOcclusion(bool value);
+  void SetAmbientOcclusionReach(double value);
   void SetUseRendererLight(bool value);
   void SetLightIntensity(double value);
   void SetEnvironmentIntensity(double value);

@@ -58,6 +58,8 @@
  *       Shade and n != 0: Lambertian, L = (c/pi) int_H E T(w) (n.w) dw; w ~ pdf (n.w)/pi, so
  *       the estimator (c/pi) E T (n.w) / ((n.w)/pi) = c E T. Otherwise an isotropic phase
  *       function, L = c int_S2 E T(w) / (4 pi) dw; w ~ uniform, pdf 1/(4 pi), estimator c E T.
+ *       With EnvironmentReach > 0, T_e is the transmittance of the first EnvironmentReach of
+ *       the ray only (local occlusion, like VTK's GlobalIlluminationReach).
  *       Drawn (u1, u2 then the march) only when c Environment != 0.
  *  6. Transmittance estimate (shadow and environment rays): from x along the unit direction,
  *     samples at (j + xi_s) StepWorld ShadowStepScale (own jitter xi_s), j >= 0, up to the box

@@ -288,7 +288,8 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
     const float u1 = NextFloat(rng);
     const float u2 = NextFloat(rng);
     const Vec3 w = shaded ? SampleCosineHemisphere(n, u1, u2) : SampleUniformSphere(u1, u2);
-    radiance += envCoefficient * EstimateTransmittance(p, xs, w, kTMax, rng);
+    const float reach = p.EnvironmentReach > 0.f ? p.EnvironmentReach : kTMax;
+    radiance += envCoefficient * EstimateTransmittance(p, xs, w, reach, rng);
   }
   return radiance;
 }

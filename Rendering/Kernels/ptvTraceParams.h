@@ -45,6 +45,9 @@ struct TraceParams
   float Ambient, Diffuse, Specular, SpecularPower;
   int Scattering;       ///< 1: event at a random opacity threshold, 0: first non-transparent sample
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
+  /// With AmbientOcclusion: the farthest an environment ray looks for occluders (world
+  /// distance; what lies beyond does not occlude); <= 0: to the volume's exit.
+  float EnvironmentReach;
   int Nearest;          ///< 1: nearest-voxel classification (VTK_NEAREST_INTERPOLATION)
   const float* MaxDistance; ///< per-pixel ray-length limit (world distance), nullptr = none
   /// A piece of a distributed volume (vtkPathTracedVolumeMapper::DistributedVolume): camera rays
