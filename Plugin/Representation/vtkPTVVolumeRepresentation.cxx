@@ -2,6 +2,7 @@
 
 #include "vtkCellData.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkExtentTranslator.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -28,6 +29,24 @@ vtkStandardNewMacro(vtkPTVVolumeRepresentation);
 
 namespace
 {
+/// Whether splitting @a whole into @a pieces blocks (ParaView's split) leaves a piece empty: a
+/// rank without data would not render, and the others would wait for it in every collective.
+bool SomePieceEmpty(const int whole[6], int pieces)
+{
+  vtkNew<vtkExtentTranslator> translator;
+  int wholeExtent[6], piece[6];
+  std::copy(whole, whole + 6, wholeExtent);
+  for (int p = 0; p < pieces; ++p)
+  {
+    if (!translator->PieceToExtentThreadSafe(
+          p, pieces, 0, wholeExtent, piece, vtkExtentTranslator::BLOCK_MODE, 0))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 /// The point extent of @a image's cells that are not ghosts (vtkGhostType without
 /// DUPLICATECELL): the first and last such cell bound it. The whole extent without ghosts.
 void OwnExtent(vtkImageData* image, int own[6])
@@ -219,7 +238,8 @@ int vtkPTVVolumeRepresentation::RequestUpdateExtent(
     {
       voxels *= std::max(whole[2 * a + 1] - whole[2 * a] + 1, 0);
     }
-    replicate = voxels > 0.0 && 4.0 * voxels <= this->ReplicateVolumeLimit * 1048576.0;
+    replicate = voxels > 0.0 &&
+      (4.0 * voxels <= this->ReplicateVolumeLimit * 1048576.0 || SomePieceEmpty(whole, ranks));
   }
   const bool distribute = ranks > 1 && in && !replicate;
   if (replicate)

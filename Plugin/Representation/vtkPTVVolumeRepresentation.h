@@ -172,7 +172,8 @@ public:
    * ParaView's split into one piece per rank, with GhostLayers around each piece
    * (vtkPathTracedVolumeMapper::DistributedVolume): each rank traces camera rays through its
    * piece, shadow and environment rays through the ghost layers as well, and rank 0 composites
-   * the pieces in view order, then denoises and draws the whole frame. Default: 4096 MB.
+   * the pieces in view order, then denoises and draws the whole frame. A volume too small to give
+   * every rank a piece is replicated whatever the limit. Default: 4096 MB.
    */
   void SetReplicateVolumeLimit(double megabytes);
   vtkGetMacro(ReplicateVolumeLimit, double);

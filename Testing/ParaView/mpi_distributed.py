@@ -14,7 +14,9 @@ Checks, all against a 2048-spp 1-rank reference traced with another seed:
 2. the same at 1 sample per frame (8 frames): composited frames accumulate like one rank's;
 3. denoised: 2 ranks' Denoised pass (rank 0 denoises the composited frame) within 0.3 dB of
    1 rank's at 8 spp;
-4. every rank reports no error or warning; NumberOfSamplingRanks is N.
+4. every rank reports no error or warning; NumberOfSamplingRanks is N;
+5. a volume too small to give 4 ranks a piece each (mpi_tiny.py, 2 x 2 x 2 points) renders
+   instead of hanging: it is replicated whatever the limit.
 
 Run by ctest (PTV.ParaView.mpi_distributed) like mpi_replicated.py.
 """
@@ -89,6 +91,23 @@ def main() -> int:
     d_two = psnr(ref_denoised, denoised(tmp / "ranks2_denoised" / "passes.exr"))
     check(d_two >= d_one - 0.3, f"2 ranks denoised: PSNR {d_two:.2f} dB >= 1 rank {d_one:.2f} "
           "- 0.3 dB")
+
+    # 5. More ranks than pieces: replicated, not a rank without data that the others wait for.
+    import json
+    import subprocess
+    tiny = tmp / "tiny_4"
+    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "4", "pvbatch",
+           "--force-offscreen-rendering", str(HERE / "mpi_tiny.py"), "--out", str(tiny)]
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=180)
+        ended = done.returncode == 0 and (tiny / "info.json").exists()
+    except subprocess.TimeoutExpired:
+        ended = False
+    check(ended, "a 2x2x2 volume split over 4 ranks renders (no rank waits for another)")
+    if ended:
+        info = json.loads((tiny / "info.json").read_text())
+        check(info["frames"] == 2 and info["sampling_ranks"] == 4 and not info["messages"],
+              f"tiny volume: 2 frames, replicated on 4 ranks, no message: {info}")
 
     problems = [m for info in infos for m in info["messages"] + info["log_problems"]]
     check(not problems, f"no VTK error or warning on any rank: {problems[:3]}")
