@@ -19,7 +19,6 @@ stays invisible (docs/measuring.md's tone mapping; > 40 dB). Run it on an idle m
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 from pathlib import Path
@@ -87,16 +86,8 @@ def main() -> int:
         lines.append(f"| {r['dataset']} | {r['reach']:g} | {r['trace_ms']:.1f} | "
                      f"{r['speedup']:.2f} | {r['bias_psnr']:.2f} | {r['equal_time_spp']} | "
                      f"{r['equal_time_psnr']:.2f} |")
-    table = "\n".join(lines)
-    print(table)
-    from pathtracedvolume.atomic import write_text
-    if args.json:
-        write_text(args.json, json.dumps(rows, indent=1))
-    if args.markdown:
-        write_text(args.markdown, "# Ambient-occlusion reach: quality against time\n\n"
-                   "Command (idle machine): `PYTHONPATH=build/python xvfb-run -a "
-                   ".venv/bin/python Testing/Benchmarks/ao_reach.py --json ... --markdown ...`"
-                   "\n\n" + table + "\n")
+    pb.save_results(rows, "\n".join(lines), args.json, args.markdown,
+                    "Ambient-occlusion reach: quality against time", "ao_reach.py")
     return 0
 
 

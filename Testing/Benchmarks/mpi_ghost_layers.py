@@ -25,9 +25,10 @@ from typing import Dict, List
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "Testing" / "ParaView"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.append(str(ROOT / "Python"))
 from mpi_replicated import radiance  # noqa: E402
-from pathtracedvolume.atomic import write_text  # noqa: E402
+from ptvbench import save_results  # noqa: E402
 from pathtracedvolume.metrics import psnr  # noqa: E402
 
 
@@ -104,15 +105,8 @@ def main() -> int:
         ghosts = "-" if r["ghosts"] is None else str(r["ghosts"])
         lines.append(f"| {r['ranks']} | {ghosts} | {r['psnr']:.2f} | {r['delta']:+.2f} | "
                      f"{r['memory']:.3f} | {r['seconds']:.2f} |")
-    table = "\n".join(lines)
-    print(table)
-    if args.json:
-        write_text(args.json, json.dumps(rows, indent=1))
-    if args.markdown:
-        write_text(args.markdown, "# Split volume: ghost layers\n\nCommand (idle machine): "
-                   "`PYTHONPATH=build/python xvfb-run -a -s \"-screen 0 1024x768x24 -noreset\" "
-                   ".venv/bin/python Testing/Benchmarks/mpi_ghost_layers.py --json ... "
-                   "--markdown ...`\n\n" + table + "\n")
+    save_results(rows, "\n".join(lines), args.json, args.markdown,
+                 "Split volume: ghost layers", "mpi_ghost_layers.py")
     return 0
 
 

@@ -70,6 +70,23 @@ def interleaved(calls: Mapping[str, Callable[[], Any]], repeats: int,
     return out
 
 
+def save_results(rows: Any, table: str, json_path: Optional[Path], markdown_path: Optional[Path],
+                 title: str, script: str) -> None:
+    """Prints ``table`` and writes ``rows`` as JSON and ``table`` as a markdown page (``title``,
+    then the command that made it: ``script`` under Xvfb on an idle machine), each only where a
+    path is given; both atomically."""
+    import json
+
+    from pathtracedvolume.atomic import write_text
+    print(table)
+    if json_path:
+        write_text(json_path, json.dumps(rows, indent=1))
+    if markdown_path:
+        write_text(markdown_path, f"# {title}\n\nCommand (idle machine): `PYTHONPATH=build/python "
+                   f"xvfb-run -a -s \"-screen 0 1024x768x24 -noreset\" .venv/bin/python "
+                   f"Testing/Benchmarks/{script} --json ... --markdown ...`\n\n{table}\n")
+
+
 def paired_ratio(numerator: Sequence[float], denominator: Sequence[float]) -> float:
     """Median over rounds of numerator / denominator, both timed in the same round."""
     return statistics.median(a / b for a, b in zip(numerator, denominator))

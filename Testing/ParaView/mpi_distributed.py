@@ -26,10 +26,10 @@ import os
 import sys
 import tempfile
 from pathlib import Path
-from typing import List
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+import ptvpvtest  # noqa: E402
 from mpi_replicated import radiance, read, run, screenshot  # noqa: E402
 
 SPLIT = ("--replicate-limit", "0")
@@ -43,12 +43,8 @@ def denoised(path: Path):
 def main() -> int:
     from pathtracedvolume.metrics import psnr
 
-    failures: List[str] = []
-
-    def check(ok: bool, what: str) -> None:
-        print(("ok     " if ok else "FAILED ") + what, flush=True)
-        if not ok:
-            failures.append(what)
+    check = ptvpvtest.Checks()
+    failures = check.failures
 
     tmp = Path(tempfile.mkdtemp(prefix="mpi_split_", dir=os.environ.get("PTV_TEST_TEMP")))
     infos = [run(1, tmp / "reference", "--frames", "64", "--spp-per-frame", "32", "--seed", "7",

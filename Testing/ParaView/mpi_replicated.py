@@ -25,9 +25,11 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
-from typing import Dict, List
+from typing import Dict
 
 import numpy as np
+
+import ptvpvtest  # noqa: E402 (this folder)
 
 HERE = Path(__file__).resolve().parent
 SIZE = 128
@@ -77,12 +79,8 @@ def screenshot(path: Path) -> np.ndarray:
 def main() -> int:
     from pathtracedvolume.metrics import psnr
 
-    failures: List[str] = []
-
-    def check(ok: bool, what: str) -> None:
-        print(("ok     " if ok else "FAILED ") + what, flush=True)
-        if not ok:
-            failures.append(what)
+    check = ptvpvtest.Checks()
+    failures = check.failures
 
     tmp = Path(tempfile.mkdtemp(prefix="mpi_", dir=os.environ.get("PTV_TEST_TEMP")))
     reference = run(1, tmp / "reference", "--frames", "32", "--spp-per-frame", "16")
