@@ -25,7 +25,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
-from typing import Dict
+from typing import Dict, List
 
 import numpy as np
 
@@ -76,11 +76,19 @@ def screenshot(path: Path) -> np.ndarray:
     return read(vtkPNGReader(), path)[..., :3]
 
 
+def finish(check: ptvpvtest.Checks, infos: List[Dict]) -> int:
+    """The last check (no VTK error or warning in any run's messages or log), PASS or FAIL, and
+    the exit code."""
+    problems = [m for info in infos for m in info["messages"] + info["log_problems"]]
+    check(not problems, f"no VTK error or warning on any rank: {problems[:3]}")
+    print("PASS" if not check.failures else f"FAIL: {len(check.failures)} check(s)")
+    return 0 if not check.failures else 1
+
+
 def main() -> int:
     from pathtracedvolume.metrics import psnr
 
     check = ptvpvtest.Checks()
-    failures = check.failures
 
     tmp = Path(tempfile.mkdtemp(prefix="mpi_", dir=os.environ.get("PTV_TEST_TEMP")))
     reference = run(1, tmp / "reference", "--frames", "32", "--spp-per-frame", "16")
@@ -121,10 +129,7 @@ def main() -> int:
           f"2-rank still render with a 1 s budget ended after "
           f"{still['accumulated_after_screenshot']} frames")
 
-    problems = [m for info in infos for m in info["messages"] + info["log_problems"]]
-    check(not problems, f"no VTK error or warning on any rank: {problems[:3]}")
-    print("PASS" if not failures else f"FAIL: {len(failures)} check(s)")
-    return 0 if not failures else 1
+    return finish(check, infos)
 
 
 if __name__ == "__main__":

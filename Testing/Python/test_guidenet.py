@@ -469,6 +469,9 @@ def test_cxx_runner_matches_torch(ptv, tmp_path: Path, net_name: str) -> None:
     net = random_net(len(channels), 21, **kw)
     path = export(net, tmp_path / f"{net_name}.onnx", channels)
     denoiser = ptv.vtkPTVDenoiser()
+    # The network's 3 levels at any frame size (the automatic count drops levels too
+    # coarse for a small frame: bilateral_grid.fitting_levels).
+    denoiser.SetNumberOfLevels(3)
     messages = observe(denoiser)
     denoiser.SetNumberOfThreads(2)
     denoiser.SetModelFile(str(path))
@@ -535,6 +538,9 @@ def test_cxx_runner_threads_and_reload(ptv, tmp_path: Path) -> None:
     feats = random_features(10, 23, 37, 9)
     passes, _, _ = synthetic_passes(23, 37, 9)
     denoiser = ptv.vtkPTVDenoiser()
+    # The network's 3 levels at any frame size (the automatic count drops levels too
+    # coarse for a small frame: bilateral_grid.fitting_levels).
+    denoiser.SetNumberOfLevels(3)
     messages = observe(denoiser)
     denoiser.SetModelFile(str(path))
     set_frame(denoiser, passes)
@@ -663,6 +669,9 @@ def test_cxx_runner_rejects_bad_models(ptv, tmp_path: Path, monkeypatch) -> None
     assert network_outputs(fixed)[0].shape == (3, h, w)  # 3 levels
 
     denoiser = ptv.vtkPTVDenoiser()
+    # The network's 3 levels at any frame size (the automatic count drops levels too
+    # coarse for a small frame: bilateral_grid.fitting_levels).
+    denoiser.SetNumberOfLevels(3)
     messages = observe(denoiser)
     denoiser.SetNumberOfThreads(1)
     set_frame(denoiser, passes, frame)

@@ -39,6 +39,7 @@ from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
 from .data import chw, psnr  # noqa: E402
+from .bilateral_grid import fitting_levels  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
 from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
 from .scene import ensure_paths  # noqa: E402
@@ -85,11 +86,16 @@ def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence
 def torch_denoise(model: GuideNet, channels: Sequence[str], levels, clamp: float,
                   passes: Dict[str, np.ndarray], demodulate: bool = True,
                   use_levels: Optional[int] = None) -> np.ndarray:
+    # As the C++ denoiser with its automatic level count: the model's (or use_levels) levels,
+    # less those too coarse for the frame (bilateral_grid.fitting_levels).
+    height, width = passes["Radiance"].shape[:2]
+    count = use_levels if use_levels is not None else model.levels
+    count = fitting_levels(list(levels)[:count], height, width)
     with torch.no_grad():
         f = torch.from_numpy(build_features(passes, channels))[None]
         out, _, _ = run_model(model, f, chw(passes["Radiance"])[None],
                               chw(passes["Albedo"])[None], levels, clamp, demodulate,
-                              use_levels)
+                              count)
     return out[0].permute(1, 2, 0).numpy()
 
 
