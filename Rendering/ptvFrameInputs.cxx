@@ -301,41 +301,32 @@ bool FrameInputs::SetPiece(const FrameSettings& settings, vtkImageData* image, T
 {
   int extent[6];
   image->GetExtent(extent);
+  const double input[6] = { static_cast<double>(extent[0]), static_cast<double>(extent[1]),
+    static_cast<double>(extent[2]), static_cast<double>(extent[3]),
+    static_cast<double>(extent[4]), static_cast<double>(extent[5]) };
   const int* piece = settings.PieceExtent;
   const bool whole = piece[0] > piece[1] || piece[2] > piece[3] || piece[4] > piece[5];
-  for (int a = 0; a < 3; ++a)
+  // The piece must lie inside the input (its ghost layers around it) and the whole volume.
+  const std::pair<const double*, const char*> outers[2] = { { input, "the input's extent" },
+    { this->Whole ? this->WholeExtent : nullptr, "the WholeExtent" } };
+  for (const auto& outer : outers)
   {
-    this->IndexOffset[a] = extent[2 * a];
-    if (!whole && (piece[2 * a] < extent[2 * a] || piece[2 * a + 1] > extent[2 * a + 1]))
+    const double* o = outer.first;
+    for (int a = 0; !whole && o && a < 3; ++a)
     {
-      std::ostringstream msg;
-      msg << "PieceExtent (" << piece[0] << ", " << piece[1] << ", " << piece[2] << ", "
-          << piece[3] << ", " << piece[4] << ", " << piece[5]
-          << ") is not inside the input's extent (" << extent[0] << ", " << extent[1] << ", "
-          << extent[2] << ", " << extent[3] << ", " << extent[4] << ", " << extent[5] << ")";
-      error = msg.str();
-      return false;
-    }
-  }
-  const int* own = whole ? extent : piece;
-  if (!whole && this->Whole)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      if (piece[2 * a] < this->WholeExtent[2 * a] || piece[2 * a + 1] > this->WholeExtent[2 * a + 1])
+      if (piece[2 * a] < o[2 * a] || piece[2 * a + 1] > o[2 * a + 1])
       {
         std::ostringstream msg;
         msg << "PieceExtent (" << piece[0] << ", " << piece[1] << ", " << piece[2] << ", "
-            << piece[3] << ", " << piece[4] << ", " << piece[5]
-            << ") is not inside the WholeExtent (" << this->WholeExtent[0] << ", "
-            << this->WholeExtent[1] << ", " << this->WholeExtent[2] << ", "
-            << this->WholeExtent[3] << ", " << this->WholeExtent[4] << ", "
-            << this->WholeExtent[5] << ")";
+            << piece[3] << ", " << piece[4] << ", " << piece[5] << ") is not inside "
+            << outer.second << " (" << o[0] << ", " << o[1] << ", " << o[2] << ", " << o[3]
+            << ", " << o[4] << ", " << o[5] << ")";
         error = msg.str();
         return false;
       }
     }
   }
+  const int* own = whole ? extent : piece;
   p.CameraBoxed = whole || std::equal(piece, piece + 6, extent) ? 0 : 1;
   for (int i = 0; i < 6; ++i)
   {
@@ -344,13 +335,15 @@ bool FrameInputs::SetPiece(const FrameSettings& settings, vtkImageData* image, T
     p.CameraBox[i] = static_cast<float>(own[i] - first);
     p.WholeBox[i] = static_cast<float>((this->Whole ? this->WholeExtent[i] : own[i]) - first);
   }
+  for (int a = 0; a < 3; ++a)
+  {
+    this->IndexOffset[a] = extent[2 * a];
+  }
   if (this->Whole)
   {
     signature.AddExact(this->WholeExtent, 6);
   }
-  const double box[6] = { this->OwnBox[0], this->OwnBox[1], this->OwnBox[2], this->OwnBox[3],
-    this->OwnBox[4], this->OwnBox[5] };
-  signature.AddExact(box, 6);
+  signature.AddExact(this->OwnBox.data(), 6);
   return true;
 }
 

@@ -97,12 +97,11 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     // Every piece classifies over the whole volume's range, is lit by its bounds, and samples
     // its camera rays on the whole volume's grid (its extent: WholeExtent, or the union of the
     // pieces').
-    double ranges[4], bounds[6], extent[6];
+    // (min, max) pairs, neutral in the reduction until this piece gives its own.
     const double inf = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < 6; ++i)
-    {
-      bounds[i] = extent[i] = ranges[i % 4] = i % 2 ? -inf : inf; // neutral: (inf, -inf)
-    }
+    double ranges[4] = { inf, -inf, inf, -inf };
+    double bounds[6] = { inf, -inf, inf, -inf, inf, -inf };
+    double extent[6] = { inf, -inf, inf, -inf, inf, -inf };
     if (ok)
     {
       this->Inputs.GetLocalRanges(ranges);

@@ -328,11 +328,26 @@ double* vtkPathTracedVolumeMapper::GetBounds()
   const int* w = this->WholeExtent;
   if (this->DistributedVolume && input && w[0] <= w[1] && w[2] <= w[3] && w[4] <= w[5])
   {
-    // Process 0 draws the whole composited volume: its bounds, not this piece's.
-    vtkNew<vtkImageData> whole;
-    whole->CopyStructure(input);
-    whole->SetExtent(this->WholeExtent);
-    whole->GetBounds(this->Bounds);
+    // Process 0 draws the whole composited volume: its bounds (its corners' physical points,
+    // which share the input's origin, spacing and direction), not this piece's.
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Bounds[2 * a] = VTK_DOUBLE_MAX;
+      this->Bounds[2 * a + 1] = VTK_DOUBLE_MIN;
+    }
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const double ijk[3] = { static_cast<double>(w[(corner & 1) ? 1 : 0]),
+        static_cast<double>(w[(corner & 2) ? 3 : 2]),
+        static_cast<double>(w[(corner & 4) ? 5 : 4]) };
+      double xyz[3];
+      input->TransformContinuousIndexToPhysicalPoint(ijk, xyz);
+      for (int a = 0; a < 3; ++a)
+      {
+        this->Bounds[2 * a] = std::min(this->Bounds[2 * a], xyz[a]);
+        this->Bounds[2 * a + 1] = std::max(this->Bounds[2 * a + 1], xyz[a]);
+      }
+    }
     bounds = this->Bounds;
   }
   const bool finite = std::all_of(bounds, bounds + 6, [](double v) { return std::isfinite(v); });
