@@ -1,6 +1,7 @@
 #include "ptvFrameInputs.h"
 
 #include "Kernels/ptvOccupancy.h"
+#include "Kernels/ptvShading.h"
 #include "ptvSceneToKernel.h"
 #include "ptvThreads.h"
 
@@ -365,6 +366,7 @@ bool FrameInputs::UpdateTransfer(
   }
   this->OccupancyIso = iso;
   this->RGBA.assign(4 * kTableSize, 0.0f);
+  this->StepRGBA.clear(); // rebuilt from the new table by Build
   std::vector<float> rgb(3 * kTableSize), alpha(kTableSize);
   SampleColorFunction(property, this->Range, rgb.data());
   property->GetScalarOpacity(0)->GetTable(this->Range[0], this->Range[1], kTableSize, alpha.data());
@@ -520,6 +522,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.StepWorld = static_cast<float>(step);
   p.ShadowStepScale = 2.0f;
   p.UnitDistance = static_cast<float>(std::max(1e-12, prop->GetScalarOpacityUnitDistance(0)));
+  this->SetStepTables(p);
   p.Shade = prop->GetShade(0) ? 1 : 0;
   p.Ambient = static_cast<float>(prop->GetAmbient(0));
   p.Diffuse = static_cast<float>(prop->GetDiffuse(0));
@@ -549,5 +552,28 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     ? this->MaxDistance.data()
     : nullptr;
   return true;
+}
+
+//------------------------------------------------------------------------------
+void FrameInputs::SetStepTables(TraceParams& p)
+{
+  TransferTable& tf = p.Transfer;
+  if (tf.GradientOpacity || !tf.RGBA || tf.Size <= 0)
+  {
+    return; // the gradient factor scales alpha before the correction: corrected per sample
+  }
+  const float camera = StepOverUnit(p, p.StepWorld);
+  const float shadow = StepOverUnit(p, ShadowStep(p));
+  if (this->StepRGBA.empty() || camera != this->StepTableKey[0] ||
+    shadow != this->StepTableKey[1])
+  {
+    this->StepRGBA.resize(4 * static_cast<std::size_t>(tf.Size));
+    this->ShadowAlpha.resize(static_cast<std::size_t>(tf.Size));
+    BuildStepTables(tf, camera, shadow, this->StepRGBA.data(), this->ShadowAlpha.data());
+    this->StepTableKey[0] = camera;
+    this->StepTableKey[1] = shadow;
+  }
+  tf.StepRGBA = this->StepRGBA.data();
+  tf.ShadowAlpha = this->ShadowAlpha.data();
 }
 }

@@ -159,6 +159,9 @@ private:
   /// when the piece does not lie inside @a image.
   bool SetPiece(const FrameSettings& settings, vtkImageData* image, TraceParams& p,
     FrameSignature& signature, std::string& error);
+  /// Point p.Transfer's StepRGBA and ShadowAlpha at copies of the table corrected for p's camera
+  /// and shadow steps (rebuilt when the table or a step changes); none with gradient opacity.
+  void SetStepTables(TraceParams& p);
 
   vtkMTimeType VolumeTime = 0;
   unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
@@ -183,6 +186,9 @@ private:
   bool TransferSkipping = false;
   std::vector<float> RGBA;
   std::vector<float> GradientOpacity;
+  std::vector<float> StepRGBA;    ///< RGBA with the opacity of one camera step (see SetStepTables)
+  std::vector<float> ShadowAlpha; ///< the opacity of one shadow/environment step
+  float StepTableKey[2] = { -1.0f, -1.0f }; ///< the step / unit distance they were built for
   float GradientMax = 1.0f;
   int Nearest = 0;
   std::vector<float> BrickRanges;    ///< per brick (lo, hi) of the voxels, see ptvOccupancy.h

@@ -30,6 +30,7 @@ __global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples
 struct CudaTracer::Internals
 {
   DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance, Samples;
+  DeviceBuffer StepTable, ShadowTable; // TransferTable::StepRGBA, ShadowAlpha
   DeviceBuffer Colors, ColorScalars, ColorTable; // dependent colour data (VolumeGrid::Colors)
   unsigned long long VolumeVersion = ~0ull;
   const float* VolumeHost = nullptr;
@@ -53,7 +54,8 @@ void CudaTracer::Release()
 {
   Internals& in = *this->Impl;
   for (DeviceBuffer* b : { &in.Scalars, &in.Table, &in.Gradient, &in.Bricks, &in.MaxDistance,
-         &in.Samples, &in.Colors, &in.ColorScalars, &in.ColorTable })
+         &in.Samples, &in.Colors, &in.ColorScalars, &in.ColorTable, &in.StepTable,
+         &in.ShadowTable })
   {
     b->Free();
   }
@@ -118,6 +120,24 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
       return false;
     }
     d.Transfer.GradientOpacity = static_cast<const float*>(in.Gradient.Ptr);
+  }
+  if (params.Transfer.StepRGBA && params.Transfer.ShadowAlpha)
+  {
+    const std::size_t entries = static_cast<std::size_t>(params.Transfer.Size);
+    if (!upload(in.StepTable, params.Transfer.StepRGBA, 4 * sizeof(float) * entries,
+          "step table upload") ||
+      !upload(in.ShadowTable, params.Transfer.ShadowAlpha, sizeof(float) * entries,
+        "shadow step table upload"))
+    {
+      return false;
+    }
+    d.Transfer.StepRGBA = static_cast<const float*>(in.StepTable.Ptr);
+    d.Transfer.ShadowAlpha = static_cast<const float*>(in.ShadowTable.Ptr);
+  }
+  else
+  {
+    d.Transfer.StepRGBA = nullptr; // corrected per sample, as on the CPU
+    d.Transfer.ShadowAlpha = nullptr;
   }
   if (params.Occupancy.SkipDistance)
   {

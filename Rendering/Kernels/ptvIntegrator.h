@@ -31,7 +31,11 @@
  *     Per sample: s = trilinear (with Nearest: nearest-voxel) scalar, (c, alpha) = table(s),
  *     alpha *= gradient-opacity factor
  *     of the world-space gradient magnitude (if that table exists), a = CorrectOpacity(alpha,
- *     StepWorld / UnitDistance).
+ *     StepWorld / UnitDistance). Without gradient opacity the frame carries the table with its
+ *     entries already corrected (TransferTable::StepRGBA, ShadowAlpha) and a is interpolated
+ *     from those: equal at the 4096 entries, and between them off by the correction's
+ *     curvature over one entry (second order; VTK's GPU ray caster does the same). It saves
+ *     the two transcendental calls per sample (5-6 % of the frame on the head and concrete).
  *  3. First event: the first sample with a > 0 gives Depth1 = t, Position1 (world), Normal1 and
  *     Albedo = c there.
  *  4. Event (free-flight sampling): T <- T (1 - a) at every sample with a > 0, and with
@@ -227,8 +231,8 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
     [&](int, float t, Vec3 pIdx)
     {
-      const TransferSample ts = ClassifyPoint(p, pIdx);
-      const float a = CorrectOpacity(ts.Opacity, stepOverUnit);
+      const TransferSample ts = ClassifyStep(p, pIdx, stepOverUnit);
+      const float a = ts.Opacity;
       if (!(a > 0.f))
       {
         return false;

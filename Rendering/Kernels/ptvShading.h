@@ -41,13 +41,17 @@ PTV_HD PTV_INLINE Vec3 SampleColor(const TraceParams& p, Vec3 pIdx, Vec3 fallbac
   return fallback;
 }
 
+/// The scalar at an index-space point (trilinear, or the nearest voxel's).
+PTV_HD PTV_INLINE float SampleScalar(const TraceParams& p, Vec3 pIdx)
+{
+  return p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
+}
+
 /// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
 /// gradient-opacity factor.
 PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
 {
-  const float s =
-    p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
-  TransferSample ts = LookupTransfer(p.Transfer, s);
+  TransferSample ts = LookupTransfer(p.Transfer, SampleScalar(p, pIdx));
   if (!(ts.Opacity > 0.f))
   {
     return ts; // transparent whether or not the point is cut away
@@ -68,6 +72,42 @@ PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
   return ts;
 }
 
+/// Colour and opacity of one camera-ray step at pIdx: ClassifyPoint with the opacity corrected
+/// for the step (CorrectOpacity(alpha, stepOverUnit)), read from the step-corrected table when
+/// the frame has one (TransferTable::StepRGBA).
+PTV_HD PTV_INLINE TransferSample ClassifyStep(const TraceParams& p, Vec3 pIdx, float stepOverUnit)
+{
+  if (!p.Transfer.StepRGBA)
+  {
+    TransferSample ts = ClassifyPoint(p, pIdx);
+    ts.Opacity = CorrectOpacity(ts.Opacity, stepOverUnit);
+    return ts;
+  }
+  TransferSample ts = LookupRGBA(p.Transfer, p.Transfer.StepRGBA, SampleScalar(p, pIdx));
+  if (!(ts.Opacity > 0.f))
+  {
+    return ts;
+  }
+  if (HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx))
+  {
+    return TransferSample{ MakeVec3(0.f, 0.f, 0.f), 0.f }; // cut away: transparent
+  }
+  ts.Color = SampleColor(p, pIdx, ts.Color);
+  return ts;
+}
+
+/// Opacity of one shadow/environment step at pIdx (ClassifyStep's opacity for that step; from
+/// TransferTable::ShadowAlpha when the frame has it, without computing a colour).
+PTV_HD PTV_INLINE float ShadowStepOpacity(const TraceParams& p, Vec3 pIdx, float stepOverUnit)
+{
+  if (!p.Transfer.ShadowAlpha)
+  {
+    return CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
+  }
+  const float a = LookupValue(p.Transfer, p.Transfer.ShadowAlpha, SampleScalar(p, pIdx));
+  return a > 0.f && !(HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx)) ? a : 0.f;
+}
+
 /// Isosurface marches: the scalar at a sample, NaN where the point is cut away (no crossing).
 PTV_HD PTV_INLINE float IsoScalar(const TraceParams& p, Vec3 pIdx)
 {
@@ -75,7 +115,7 @@ PTV_HD PTV_INLINE float IsoScalar(const TraceParams& p, Vec3 pIdx)
   {
     return nanf("");
   }
-  return p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
+  return SampleScalar(p, pIdx);
 }
 
 /**
@@ -123,6 +163,12 @@ PTV_HD PTV_INLINE Vec3 ShadingNormal(const TraceParams& p, Vec3 pIdx, Vec3 viewD
 PTV_HD PTV_INLINE float StepOverUnit(const TraceParams& p, float step)
 {
   return p.UnitDistance > 0.f ? step / p.UnitDistance : 1.f;
+}
+
+/// World step of shadow and environment rays (StepWorld * ShadowStepScale, default scale 2).
+PTV_HD PTV_INLINE float ShadowStep(const TraceParams& p)
+{
+  return p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
 }
 
 /// Russian roulette while T < kRouletteThreshold: survive with probability 1/2 and double T
@@ -175,7 +221,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   const TraceParams& p, Vec3 x, Vec3 w, float tMax, Rng& rng)
 {
   const float xi = NextFloat(rng);
-  const float step = p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
+  const float step = ShadowStep(p);
   const float stepOverUnit = StepOverUnit(p, step);
   const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, x);
   const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, w);
@@ -198,7 +244,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
     [&](int, float, Vec3 pIdx)
     {
-      const float a = CorrectOpacity(ClassifyPoint(p, pIdx).Opacity, stepOverUnit);
+      const float a = ShadowStepOpacity(p, pIdx, stepOverUnit);
       if (a > 0.f)
       {
         T *= 1.f - a;

@@ -29,6 +29,12 @@ struct TransferTable
   const float* GradientOpacity; ///< GradientSize factors, or nullptr
   int GradientSize;             ///< number of gradient-opacity entries
   float GradientMax;            ///< gradient magnitude of the last entry
+  /// Optional copies with the opacity already corrected for one march step (nullptr: corrected
+  /// per sample): StepRGBA is RGBA with alpha = CorrectOpacity(alpha, camera step / unit
+  /// distance), ShadowAlpha the opacities of one shadow/environment step (Size floats). Only
+  /// without gradient opacity, whose factor multiplies alpha before the correction.
+  const float* StepRGBA;
+  const float* ShadowAlpha;
 };
 
 /// Colour and opacity per unit distance (uncorrected) of one classified sample.
@@ -60,12 +66,12 @@ PTV_HD PTV_INLINE void TableCell(float x, int size, int& i0, float& f)
   f = size >= 2 ? x - static_cast<float>(i0) : 0.f;
 }
 
-/// Colour and opacity per unit distance at scalar s (linear between entries, clamped outside;
-/// NaN is transparent).
-PTV_HD PTV_INLINE TransferSample LookupTransfer(const TransferTable& tf, float s)
+/// Colour and opacity at scalar s from @a rgba, a table laid out as tf.RGBA over tf's scalar
+/// range (linear between entries, clamped outside; NaN is transparent).
+PTV_HD PTV_INLINE TransferSample LookupRGBA(const TransferTable& tf, const float* rgba, float s)
 {
   TransferSample out = { MakeVec3(0.f, 0.f, 0.f), 0.f };
-  if (!tf.RGBA || tf.Size <= 0 || !(s == s))
+  if (!rgba || tf.Size <= 0 || !(s == s))
   {
     return out; // no table, or a NaN sample ("no data": the mapper maps non-finite voxels to NaN)
   }
@@ -73,11 +79,33 @@ PTV_HD PTV_INLINE TransferSample LookupTransfer(const TransferTable& tf, float s
   float f;
   TableCell(TableCoordinate(s, tf.ScalarMin, tf.ScalarMax, tf.Size), tf.Size, i0, f);
   const int i1 = tf.Size >= 2 ? i0 + 1 : i0;
-  const float* a = tf.RGBA + 4 * i0;
-  const float* b = tf.RGBA + 4 * i1;
+  const float* a = rgba + 4 * i0;
+  const float* b = rgba + 4 * i1;
   out.Color = MakeVec3(Lerp(a[0], b[0], f), Lerp(a[1], b[1], f), Lerp(a[2], b[2], f));
   out.Opacity = Lerp(a[3], b[3], f);
   return out;
+}
+
+/// Colour and opacity per unit distance at scalar s (linear between entries, clamped outside;
+/// NaN is transparent).
+PTV_HD PTV_INLINE TransferSample LookupTransfer(const TransferTable& tf, float s)
+{
+  return LookupRGBA(tf, tf.RGBA, s);
+}
+
+/// One value per entry (Size floats over tf's scalar range) at scalar s, as LookupRGBA; NaN or
+/// no table gives 0.
+PTV_HD PTV_INLINE float LookupValue(const TransferTable& tf, const float* values, float s)
+{
+  if (!values || tf.Size <= 0 || !(s == s))
+  {
+    return 0.f;
+  }
+  int i0;
+  float f;
+  TableCell(TableCoordinate(s, tf.ScalarMin, tf.ScalarMax, tf.Size), tf.Size, i0, f);
+  const int i1 = tf.Size >= 2 ? i0 + 1 : i0;
+  return Lerp(values[i0], values[i1], f);
 }
 
 /// True when a gradient-opacity table is present.
@@ -116,6 +144,27 @@ PTV_HD PTV_INLINE float CorrectOpacity(float alpha, float stepOverUnit)
     return 1.f;
   }
   return -expm1f(stepOverUnit * log1pf(-alpha));
+}
+
+/**
+ * Fill the step-corrected copies of tf.RGBA (see TransferTable::StepRGBA, ShadowAlpha): 4 *
+ * Size and Size floats. Interpolating corrected entries instead of correcting the interpolated
+ * alpha differs only between entries, by the curvature of the correction (second order in the
+ * entry spacing; VTK's GPU ray caster corrects its table the same way), and saves the two
+ * transcendental calls per sample.
+ */
+inline void BuildStepTables(const TransferTable& tf, float stepOverUnit, float shadowStepOverUnit,
+  float* stepRGBA, float* shadowAlpha)
+{
+  for (int i = 0; i < tf.Size; ++i)
+  {
+    const float* e = tf.RGBA + 4 * i;
+    stepRGBA[4 * i + 0] = e[0];
+    stepRGBA[4 * i + 1] = e[1];
+    stepRGBA[4 * i + 2] = e[2];
+    stepRGBA[4 * i + 3] = CorrectOpacity(e[3], stepOverUnit);
+    shadowAlpha[i] = CorrectOpacity(e[3], shadowStepOverUnit);
+  }
 }
 }
 
