@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -25,6 +26,23 @@ namespace ptv
 {
 namespace
 {
+/// Where transmittance rays start Russian roulette: kRouletteThreshold, or for studies
+/// (Testing/Benchmarks/roulette.py) PTV_ROULETTE_THRESHOLD in (0, 1]; anything else is ignored.
+float RouletteThreshold()
+{
+  const char* value = std::getenv("PTV_ROULETTE_THRESHOLD");
+  if (value)
+  {
+    char* end = nullptr;
+    const float t = std::strtof(value, &end);
+    if (end != value && *end == '\0' && t > 0.0f && t <= 1.0f)
+    {
+      return t;
+    }
+  }
+  return kRouletteThreshold;
+}
+
 constexpr int kTableSize = 4096;
 constexpr int kGradientTableSize = 1024;
 // Occupancy bricks of 4^3 voxels: measured against 8^3 (benchmark_tracer.py, 512², 1 thread)
@@ -521,6 +539,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   // Sampling and shading.
   p.StepWorld = static_cast<float>(step);
   p.ShadowStepScale = 2.0f;
+  p.RouletteThreshold = RouletteThreshold();
   p.UnitDistance = static_cast<float>(std::max(1e-12, prop->GetScalarOpacityUnitDistance(0)));
   this->SetStepTables(p);
   p.Shade = prop->GetShade(0) ? 1 : 0;

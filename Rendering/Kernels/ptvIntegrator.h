@@ -68,8 +68,9 @@
  *  6. Transmittance estimate (shadow and environment rays): from x along the unit direction,
  *     samples at (j + xi_s) StepWorld ShadowStepScale (own jitter xi_s), j >= 0, up to the box
  *     exit (or the light), T *= 1 - a_j with a_j corrected for the longer step. Russian
- *     roulette after each absorbing sample while T < 0.05: survive with probability 1/2 and
- *     double T, else return 0 -- unbiased (E = T) and terminating.
+ *     roulette after each absorbing sample while T < RouletteThreshold (default 0.05, chosen
+ *     by Testing/Benchmarks/roulette.py): survive with probability 1/2 and double T, else
+ *     return 0 -- unbiased (E = T) and terminating.
  *  Empty-space skipping (every march, see March()): when the current sample's brick is empty
  *  (ptvOccupancy.h), k jumps to the first sample index whose t is past the empty cube of bricks
  *  around it; the skipped samples all have a = 0 and draw no random numbers, so results are

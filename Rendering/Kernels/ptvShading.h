@@ -171,11 +171,12 @@ PTV_HD PTV_INLINE float ShadowStep(const TraceParams& p)
   return p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
 }
 
-/// Russian roulette while T < kRouletteThreshold: survive with probability 1/2 and double T
-/// (unbiased); returns false (and T = 0) when the ray ends.
-PTV_HD PTV_INLINE bool Roulette(float& T, Rng& rng)
+/// Russian roulette while T < the threshold (TraceParams::RouletteThreshold): survive with
+/// probability 1/2 and double T (unbiased); returns false (and T = 0) when the ray ends.
+PTV_HD PTV_INLINE bool Roulette(const TraceParams& p, float& T, Rng& rng)
 {
-  while (T < kRouletteThreshold)
+  const float threshold = p.RouletteThreshold > 0.f ? p.RouletteThreshold : kRouletteThreshold;
+  while (T < threshold)
   {
     if (NextFloat(rng) >= 0.5f)
     {
@@ -206,7 +207,7 @@ PTV_HD PTV_INLINE PTV_NOINLINE float EstimateTransmittanceIso(const TraceParams&
             T = 0.f;
             return true;
           }
-          return !Roulette(T, rng);
+          return !Roulette(p, T, rng);
         });
     });
   return T;
@@ -253,7 +254,7 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
           T = 0.f;
           return true;
         }
-        return !Roulette(T, rng);
+        return !Roulette(p, T, rng);
       }
       return false;
     });

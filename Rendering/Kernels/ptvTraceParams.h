@@ -40,6 +40,8 @@ struct TraceParams
   Vec3 Environment;      ///< uniform environment radiance
   float StepWorld;       ///< camera-ray step in world units (typically one voxel)
   float ShadowStepScale; ///< shadow/environment step = StepWorld * ShadowStepScale (default 2)
+  /// Transmittance rays play Russian roulette while T is below this (<= 0: kRouletteThreshold)
+  float RouletteThreshold;
   float UnitDistance;    ///< ScalarOpacityUnitDistance (world units)
   int Shade;
   float Ambient, Diffuse, Specular, SpecularPower;
