@@ -20,7 +20,10 @@
  *     shows through it now). A pixel outside the image, behind the camera or at another
  *     depth or place (silhouettes, occlusion) is dropped; none kept: no history;
  *  3. Radiance, Alpha and the frame count n are read bilinearly from the kept pixels
- *     (renormalised weights), n capped at MaximumHistory;
+ *     (renormalised weights), n capped at MaximumHistory times the fade of the view's turn:
+ *     1 - turn / 8 degrees (the turn: the change of the central ray's direction), 0 beyond.
+ *     What the history saw drifts as the view turns (lights that follow the camera,
+ *     highlights, content behind the first event); a pan or a zoom keeps the full cap;
  *  4. the new frame F joins the history H as the (n+1)-th frame: H + (F - H) / (n + 1), count
  *     n + 1. With n capped at M this is an exponential moving average of weight 1 / (M + 1).
  * The other passes (the denoiser's auxiliary features and the tests' inputs) restart with the

@@ -80,8 +80,10 @@ public:
    * MaximumHistory frames (default 2, range [1, 1000000]): more history is less noisy, but
    * lags behind what changes with the view (lights that follow the camera, highlights, content
    * behind the first event, which moves with another parallax); on a 2-degree-per-frame orbit
-   * of the head at 512^2, 2 was the most accurate (Testing/Benchmarks/temporal_reuse.py). A still camera accumulates
-   * exactly as with it off. Off: every camera change starts again from one frame.
+   * of the head at 512^2, 2 was the most accurate (Testing/Benchmarks/temporal_reuse.py).
+   * The cap shrinks as the view turns between frames and reaches 0 at a turn of 8 degrees
+   * (a fast orbit starts afresh each frame; a pan or zoom keeps it). A still camera
+   * accumulates exactly as with it off. Off: every camera change starts again from one frame.
    */
   vtkSetMacro(TemporalReprojection, bool);
   vtkGetMacro(TemporalReprojection, bool);

@@ -10,7 +10,13 @@ Every method runs in the same process on the same views, at --size² with the sh
   temporal PSNR (consecutive tone-mapped frames) and PSNR against the converged view;
 * **stress**: the head orbit with the transfer function changed at its middle frame (the
   history must be dropped), a fast orbit (--fast-step degrees per frame) and a pan that brings
-  unseen parts into view; every frame's PSNR with history against the same frame without;
+  unseen parts into view; every frame's PSNR with history against the same frame without
+  (the same run with every history dropped, PTV_HISTORY_ANGLE=0: the same random samples, so
+  the difference is the history's alone);
+* **history fade** (--fade-steps orbits of 12 views per orbit dataset): the view's turn at
+  which the history's weight reaches 0 (kHistoryAngle in Rendering/ptvReprojection.cxx, set
+  through PTV_HISTORY_ANGLE for each of --fade-angles), PSNR against the same run without
+  history;
 * **static flicker** (--datasets-static, --static-frames frames of the fixed benchmark view):
   the mapper's own still view (its accumulation), ours per fresh frame and OIDN fast per
   fresh frame (new seeds); per-pixel std of the tone-mapped frames;
@@ -24,8 +30,10 @@ Usage: ``python Testing/Benchmarks/temporal_reuse.py --help``.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
+import os
 import statistics
 import sys
 import time
@@ -59,12 +67,17 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--datasets-orbit", nargs="+", default=["head", "stent"])
     p.add_argument("--datasets-static", nargs="+", default=["head", "stent", "concrete"])
     p.add_argument("--static-frames", type=int, default=16, help="frames of the fixed view")
+    p.add_argument("--fade-steps", type=float, nargs="+", default=[2.0, 4.0, 8.0],
+                   help="orbit degrees per frame of the history-fade study")
+    p.add_argument("--fade-angles", type=float, nargs="+", default=[180.0, 16.0, 8.0, 4.0],
+                   help="history-fade angles to compare (180: no fade)")
     p.add_argument("--quick", action="store_true", help="a small run (tests, smoke checks)")
     p.add_argument("--out", type=Path, default=RESULTS, help="results folder")
     a = p.parse_args(argv)
     if a.quick:
         a.size, a.frames, a.ref_spp, a.static_frames = 64, 6, 4, 4
         a.histories, a.default_history = [4], 4
+        a.fade_steps, a.fade_angles = [8.0], [180.0]
         a.datasets_orbit, a.datasets_static = ["head"], ["head"]
     if a.default_history not in a.histories:
         p.error("--default-history must be one of --histories")
@@ -181,6 +194,20 @@ class Orbit:
         return out
 
 
+@contextlib.contextmanager
+def history_angle(degrees: Optional[float]):
+    """Run with PTV_HISTORY_ANGLE set (None: the mapper's default; 0 drops every history)."""
+    old = os.environ.pop("PTV_HISTORY_ANGLE", None)
+    if degrees is not None:
+        os.environ["PTV_HISTORY_ANGLE"] = repr(float(degrees))
+    try:
+        yield
+    finally:
+        os.environ.pop("PTV_HISTORY_ANGLE", None)
+        if old is not None:
+            os.environ["PTV_HISTORY_ANGLE"] = old
+
+
 def orbit_path(frames: int, step: float) -> List[Dict[str, float]]:
     return [{"azimuth": i * step} for i in range(frames)]
 
@@ -222,12 +249,17 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
         rows.append(sequence_row(o.dataset, case, "OIDN fast per frame", oidn_frames, refs))
     if case == "orbit":
         rows.append(sequence_row(o.dataset, case, f"converged ({a.ref_spp} spp)", refs, refs))
+    with history_angle(0.0):  # the same samples, every history dropped
+        alone = o.run(path, True, 1, tf_change=tf_change)
+    paired = sequence_row(o.dataset, case, "ours, no history (same samples)", alone["shown"],
+                          refs)
+    rows.append(paired)
     for h in histories:
         r = o.run(path, True, h, tf_change=tf_change)
         row = sequence_row(o.dataset, case, f"ours + reprojection (M={h})", r["shown"], refs)
         row["raw_psnr_mean"] = float(np.mean([psnr_vs(f, x) for f, x in zip(r["raw"], refs)]))
         row["never_below"] = min(x - y for x, y in zip(row["psnr_per_frame"],
-                                                       today["psnr_per_frame"]))
+                                                       paired["psnr_per_frame"]))
         row["history_max"] = r["history_max"]
         if tf_change is not None:
             row["history_max_at_change"] = r["history_max"][tf_change]
@@ -238,6 +270,29 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
                       "render_ms": statistics.median(r["render_ms"][moving]),
                       "trace_ms": statistics.median(r["trace_ms"][moving]),
                       "reproject_ms": statistics.median(r["reproject_ms"][moving])})
+
+
+def fade_study(o: Orbit, a: argparse.Namespace) -> List[Dict[str, Any]]:
+    """Orbits of 12 views at each of a.fade_steps, MaximumHistory a.default_history, with each
+    of a.fade_angles: mean and worst per-frame PSNR difference to the same run without history
+    (frames 1..; frame 0 has none)."""
+    out = []
+    for step in a.fade_steps:
+        path = orbit_path(12 if not a.quick else 3, step)
+        refs = o.references(path, a.ref_spp, 6000)
+        with history_angle(0.0):
+            alone = [psnr_vs(f, x) for f, x in
+                     zip(o.run(path, True, a.default_history)["shown"], refs)]
+        for angle in a.fade_angles:
+            with history_angle(angle):
+                r = o.run(path, True, a.default_history)
+            per = [psnr_vs(f, x) for f, x in zip(r["shown"], refs)]
+            d = [x - y for x, y in zip(per[1:], alone[1:])]
+            out.append({"dataset": o.dataset, "step": step, "angle": angle,
+                        "psnr_mean": float(np.mean(per)), "gain_mean": float(np.mean(d)),
+                        "gain_min": float(np.min(d)), "tpsnr_mean": float(np.mean(tpsnr(
+                            r["shown"])))})
+    return out
 
 
 def static_flicker(o: Orbit, frames: int) -> List[Dict[str, Any]]:
@@ -304,7 +359,8 @@ def chart(path: Path, rows: Sequence[Dict[str, Any]], a: argparse.Namespace) -> 
 
 
 def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
-             costs: Sequence[Dict[str, Any]], a: argparse.Namespace, command: str) -> str:
+             costs: Sequence[Dict[str, Any]], fades: Sequence[Dict[str, Any]],
+             a: argparse.Namespace, command: str) -> str:
     md = ["# Temporal reuse while the camera moves", "",
           f"`{command}` (idle machine; {a.size}², shipped model, Denoise on, the mapper's "
           "shown image = its Converged pass).", "",
@@ -321,6 +377,13 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
     md += [f"\n{r['dataset']}, {r['case']}, {r['method']}: longest history in the frame of the "
            f"change {r['history_max_at_change']:.0f} (1 = dropped)." for r in rows
            if "history_max_at_change" in r]
+    md += ["", f"History fade (12-view orbits, M = {a.default_history}; PSNR against the "
+           "same run with every history dropped, frames 1-11; 180° = no fade):", "",
+           "| dataset | ° per frame | fade angle | PSNR vs converged | gain (mean) | "
+           "gain (worst frame) | mean tPSNR |", "|---|---|---|---|---|---|---|"]
+    md += [f"| {f['dataset']} | {f['step']:g} | {f['angle']:g} | {f['psnr_mean']:.2f} | "
+           f"{f['gain_mean']:+.2f} | {f['gain_min']:+.2f} | {f['tpsnr_mean']:.2f} |"
+           for f in fades]
     md += ["", "Static view flicker (per-pixel std of tone-mapped frames, "
            f"{a.static_frames} frames):", "", "| dataset | method | flicker | ÷ OIDN fast |",
            "|---|---|---|---|"]
@@ -354,6 +417,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      histories=[a.default_history], with_oidn=False)
             run_case(o, "pan (2 % of the width per frame)", pan_path(max(a.frames // 3, 2)), a,
                      rows, costs, histories=[a.default_history], with_oidn=False)
+    fades: List[Dict[str, Any]] = []
+    for ds in tqdm(a.datasets_orbit, desc="history fade", unit="dataset"):
+        fades += fade_study(Orbit(ds, a.size), a)
     flick: List[Dict[str, Any]] = []
     for ds in tqdm(a.datasets_static, desc="static flicker", unit="dataset"):
         flick += static_flicker(Orbit(ds, a.size), a.static_frames)
@@ -365,11 +431,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     write_text(a.out / "temporal_reuse.json", json.dumps(
         {"command": command, "args": {k: (str(v) if isinstance(v, Path) else v)
                                       for k, v in vars(a).items()},
-         "rows": rows, "static_flicker": flick, "cost": costs}, indent=1) + "\n")
+         "rows": rows, "static_flicker": flick, "cost": costs, "history_fade": fades},
+        indent=1) + "\n")
     keys = list(dict.fromkeys(k for r in table for k in r))
     write_text(a.out / "temporal_reuse.csv", ",".join(keys) + "\n" + "".join(
         ",".join(str(r.get(k, "")) for k in keys) + "\n" for r in table))
-    text = markdown(rows, flick, costs, a, command)
+    text = markdown(rows, flick, costs, fades, a, command)
     write_text(a.out / "temporal_reuse.md", text)
     print(text)
     return 0

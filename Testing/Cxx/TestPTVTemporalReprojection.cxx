@@ -8,6 +8,8 @@
 //  - a translation by 2.5 pixels: error within 1.5x that of 33 frames plus twice the error of
 //    bilinearly shifting the converged image itself (the interpolation error);
 //  - MaximumHistory caps the history; frames of a still view after a move add to each pixel;
+//  - a turn of the view shrinks the cap: by 1 - sin(1 deg) / sin(4 deg) for 2 degrees (the
+//    chords of 2 and 8 degrees), to nothing for 9 degrees;
 //  - the history is dropped when the transfer function or a scene light changes (the frame is
 //    bit-identical to a fresh mapper's first frame), not when a camera light moves with the
 //    camera;
@@ -206,6 +208,31 @@ void TestHistoryCapAndStillAfterMove()
   Check(s.Mapper->GetAccumulatedFrames() == 4, "the still view counts its own frames");
 }
 
+void TestTurnFade()
+{
+  Scene s;
+  s.Mapper->SetMaximumHistory(4);
+  s.Frames(8);
+  s.Renderer->GetActiveCamera()->Azimuth(2.0);
+  s.Frames(1);
+  std::vector<float> history = s.Pass("HistoryLength");
+  const double expected = 1.0 +
+    4.0 * (1.0 - std::sin(vtkMath::RadiansFromDegrees(1.0)) /
+                   std::sin(vtkMath::RadiansFromDegrees(4.0)));
+  const float most = *std::max_element(history.begin(), history.end());
+  Check(std::fabs(most - expected) < 1e-3,
+    "a 2-degree turn caps the history at 4 x its fade (+1): " + Num(most) + " vs " +
+      Num(expected));
+  Check(s.Mapper->GetReprojectionReuse() > 0.5, "the 2-degree turn kept most histories");
+  s.Frames(4);
+  s.Renderer->GetActiveCamera()->Azimuth(9.0);
+  s.Frames(1);
+  history = s.Pass("HistoryLength");
+  Check(*std::max_element(history.begin(), history.end()) == 1.0f &&
+      s.Mapper->GetReprojectionReuse() == 0.0,
+    "a 9-degree turn keeps no history");
+}
+
 void TestHistoryDropped()
 {
   Scene s, fresh;
@@ -280,6 +307,7 @@ int TestPTVTemporalReprojection(int, char*[])
   TestTranslation(3.0);
   TestTranslation(2.5);
   TestHistoryCapAndStillAfterMove();
+  TestTurnFade();
   TestHistoryDropped();
   TestDeterministic();
   return TestResult();
