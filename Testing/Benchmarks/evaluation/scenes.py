@@ -3,7 +3,8 @@ traced images, and :class:`Bench`, the context every section's ``measure`` share
 
 Traced images that do not depend on the denoiser (references, spp sweeps, the orbit and stress
 references) are cached under <cache>/bench/report, keyed by their parameters and by a
-fingerprint of the tracer's output (a tiny render), so a changed tracer re-renders.
+fingerprint of the tracer (a tiny render's output and the tracer's source files), so a changed
+tracer re-renders.
 """
 from __future__ import annotations
 
@@ -192,13 +193,26 @@ class Cache:
         return data
 
 
+# What decides a traced image: the kernels and the frame's inputs, tracing and accumulation. A
+# tiny render alone can miss a change (the step-corrected opacity tables left a 24x20 image
+# bit-identical while 256² images moved by 1e-5).
+TRACER_SOURCES = ("Rendering/Kernels/*.h", "Rendering/ptvFrameInputs.*", "Rendering/ptvFrameLoop.*",
+                  "Rendering/ptvSceneToKernel.*", "Rendering/ptvCpuTracer.*",
+                  "Rendering/ptvTracerRunner.*", "Rendering/ptvPassBuffers.*",
+                  "Rendering/ptvReprojection.*")
+
+
 def tracer_fingerprint(scenes: Scenes) -> str:
-    """Hash of a tiny 2-spp head render: changes whenever the tracer's output changes."""
+    """Hash of a tiny 2-spp head render and of the tracer's sources (TRACER_SOURCES)."""
     data = scenes.trace({"volume": "head", "size": [24, 20]}, 7, 2,
                         {2: pb.PASSES})
     h = hashlib.sha1()
     for name in pb.PASSES:
         h.update(np.ascontiguousarray(data[f"{name}@2"]).tobytes())
+    for pattern in TRACER_SOURCES:
+        for path in sorted(pb.ROOT.glob(pattern)):
+            h.update(path.name.encode())
+            h.update(path.read_bytes())
     return h.hexdigest()[:16]
 
 
