@@ -28,6 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402
+from evaluation.common import md_table  # noqa: E402
 
 from tqdm import tqdm  # noqa: E402
 
@@ -80,12 +81,12 @@ def main() -> int:
               f"{args.rounds} interleaved rounds; bias: {args.bias_spp} spp at reach r vs "
               f"{args.ref_spp} spp at reach 1 (another seed); equal time: the frames reach r "
               f"traces in the time of {args.budget_spp} at reach 1")
-    lines = [header, "", "| dataset | reach | trace ms | speed-up | bias PSNR (dB) | "
-             "equal-time spp | equal-time PSNR (dB) |", "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['dataset']} | {r['reach']:g} | {r['trace_ms']:.1f} | "
-                     f"{r['speedup']:.2f} | {r['bias_psnr']:.2f} | {r['equal_time_spp']} | "
-                     f"{r['equal_time_psnr']:.2f} |")
+    lines = [header, ""] + md_table(
+        ["dataset", "reach", "trace ms", "speed-up", "bias PSNR (dB)", "equal-time spp",
+         "equal-time PSNR (dB)"],
+        [[r["dataset"], f"{r['reach']:g}", f"{r['trace_ms']:.1f}", f"{r['speedup']:.2f}",
+          f"{r['bias_psnr']:.2f}", r["equal_time_spp"], f"{r['equal_time_psnr']:.2f}"]
+         for r in rows])
     pb.save_results(rows, "\n".join(lines), args.json, args.markdown,
                     "Ambient-occlusion reach: quality against time", "ao_reach.py")
     return 0

@@ -28,6 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402
+from evaluation.common import md_table  # noqa: E402
 
 from tqdm import tqdm  # noqa: E402
 
@@ -95,13 +96,12 @@ def main() -> int:
               f"{args.rounds} interleaved rounds; variance: mean per-pixel variance of "
               f"{args.frames} independent 1-spp radiance frames; efficiency 1 / (variance x "
               f"time), relative to threshold {args.thresholds[0]:g}")
-    lines = [header, "", "| dataset | threshold | trace ms | time ratio | variance ratio | "
-             "efficiency |", "|---|---|---|---|---|---|"]
-    for r in rows:
-        b = base[r["dataset"]]
-        lines.append(f"| {r['dataset']} | {r['threshold']:g} | {r['trace_ms']:.1f} | "
-                     f"{r['trace_ms'] / b['trace_ms']:.3f} | "
-                     f"{r['variance'] / b['variance']:.3f} | {r['efficiency']:.3f} |")
+    lines = [header, ""] + md_table(
+        ["dataset", "threshold", "trace ms", "time ratio", "variance ratio", "efficiency"],
+        [[r["dataset"], f"{r['threshold']:g}", f"{r['trace_ms']:.1f}",
+          f"{r['trace_ms'] / base[r['dataset']]['trace_ms']:.3f}",
+          f"{r['variance'] / base[r['dataset']]['variance']:.3f}", f"{r['efficiency']:.3f}"]
+         for r in rows])
     pb.save_results(rows, "\n".join(lines), args.json, args.markdown,
                     "Russian roulette threshold: variance against time", "roulette.py")
     return 0
