@@ -30,8 +30,8 @@
 // The slabs are traced with the opacity tables corrected per step (as the mapper does); with the
 // constant table the per-sample correction must give the same samples bit for bit.
 //
-// Also: opacity correction composition, step-table lookups, sampling moments (3 SE), the Duff et al. basis, and
-// trilinear sampling / gradient / NormalToWorld on a linear field.
+// Also: opacity correction composition, step-table lookups, sampling moments (3 SE), the Duff
+// et al. basis, and trilinear sampling / gradient / NormalToWorld on a linear field.
 #include "Kernels/ptvIntegrator.h"
 
 #include <cmath>
