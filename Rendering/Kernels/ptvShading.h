@@ -47,11 +47,11 @@ PTV_HD PTV_INLINE float SampleScalar(const TraceParams& p, Vec3 pIdx)
   return p.Nearest ? SampleNearest(p.Volume, pIdx) : SampleTrilinear(p.Volume, pIdx);
 }
 
-/// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
-/// gradient-opacity factor.
-PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
+/// Colour and opacity at an index-space point from @a rgba (p.Transfer.RGBA or a copy laid out
+/// as it), with clipping, the gradient-opacity factor and dependent colour data.
+PTV_HD PTV_INLINE TransferSample ClassifyFrom(const TraceParams& p, const float* rgba, Vec3 pIdx)
 {
-  TransferSample ts = LookupTransfer(p.Transfer, SampleScalar(p, pIdx));
+  TransferSample ts = LookupRGBA(p.Transfer, rgba, SampleScalar(p, pIdx));
   if (!(ts.Opacity > 0.f))
   {
     return ts; // transparent whether or not the point is cut away
@@ -72,6 +72,13 @@ PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
   return ts;
 }
 
+/// Colour and (uncorrected) opacity per unit distance at an index-space point, including the
+/// gradient-opacity factor.
+PTV_HD PTV_INLINE TransferSample ClassifyPoint(const TraceParams& p, Vec3 pIdx)
+{
+  return ClassifyFrom(p, p.Transfer.RGBA, pIdx);
+}
+
 /// Colour and opacity of one camera-ray step at pIdx: ClassifyPoint with the opacity corrected
 /// for the step (CorrectOpacity(alpha, stepOverUnit)), read from the step-corrected table when
 /// the frame has one (TransferTable::StepRGBA).
@@ -83,17 +90,7 @@ PTV_HD PTV_INLINE TransferSample ClassifyStep(const TraceParams& p, Vec3 pIdx, f
     ts.Opacity = CorrectOpacity(ts.Opacity, stepOverUnit);
     return ts;
   }
-  TransferSample ts = LookupRGBA(p.Transfer, p.Transfer.StepRGBA, SampleScalar(p, pIdx));
-  if (!(ts.Opacity > 0.f))
-  {
-    return ts;
-  }
-  if (HasClipping(p.Clip) && !KeptPoint(p.Clip, pIdx))
-  {
-    return TransferSample{ MakeVec3(0.f, 0.f, 0.f), 0.f }; // cut away: transparent
-  }
-  ts.Color = SampleColor(p, pIdx, ts.Color);
-  return ts;
+  return ClassifyFrom(p, p.Transfer.StepRGBA, pIdx); // (set only without gradient opacity)
 }
 
 /// Opacity of one shadow/environment step at pIdx (ClassifyStep's opacity for that step; from
