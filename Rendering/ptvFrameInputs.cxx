@@ -427,8 +427,9 @@ bool FrameInputs::UpdateTransfer(
   this->Nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? 1 : 0;
 
   // Occupancy: per-brick value ranges depend on the voxels only (built once per volume, in
-  // parallel); the skip distances on those ranges and the table (cheap, per table change).
-  this->SkipDistance.clear();
+  // parallel); the signed brick distances on those ranges and the table (cheap, per table
+  // change).
+  this->BrickDistance.clear();
   this->TransferSkipping = skipping;
   if (skipping)
   {
@@ -453,9 +454,9 @@ bool FrameInputs::UpdateTransfer(
     table.Size = kTableSize;
     table.ScalarMin = static_cast<float>(this->Range[0]);
     table.ScalarMax = static_cast<float>(this->Range[1]);
-    this->SkipDistance.resize(bricks);
+    this->BrickDistance.resize(bricks);
     BuildOccupancy(
-      table, this->BrickCounts, this->BrickRanges.data(), this->SkipDistance.data(), &iso);
+      table, this->BrickCounts, this->BrickRanges.data(), this->BrickDistance.data(), &iso);
   }
   this->TransferTime = property->GetMTime();
   return true;
@@ -520,9 +521,9 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   tf.GradientOpacity = this->GradientOpacity.empty() ? nullptr : this->GradientOpacity.data();
   tf.GradientSize = kGradientTableSize;
   tf.GradientMax = this->GradientMax;
-  if (settings.EmptySpaceSkipping && !this->SkipDistance.empty())
+  if (settings.EmptySpaceSkipping && !this->BrickDistance.empty())
   {
-    p.Occupancy.SkipDistance = this->SkipDistance.data();
+    p.Occupancy.Distance = this->BrickDistance.data();
     p.Occupancy.BrickSize = kBrickSize;
     std::copy(this->BrickCounts, this->BrickCounts + 3, p.Occupancy.Bricks);
   }

@@ -4,7 +4,7 @@
  *        the kernel's plain structs, owning the host memory behind them.
  *
  * The float copy of the voxels (and the occupancy's per-brick value ranges) is rebuilt only when
- * the image or array changes, the transfer-function tables and skip distances only when the
+ * the image or array changes, the transfer-function tables and brick distances only when the
  * volume property changes (MTime). Build() fills the per-frame structs (with ptvSceneToKernel's
  * pieces) and a signature of everything that changes the image, so the frame loop resets its
  * accumulation when (and only when) it differs.
@@ -192,8 +192,8 @@ private:
   float GradientMax = 1.0f;
   int Nearest = 0;
   std::vector<float> BrickRanges;    ///< per brick (lo, hi) of the voxels, see ptvOccupancy.h
-  std::vector<uint8_t> SkipDistance; ///< per brick, see Kernels/ptvOccupancy.h
-  IsoSurfaces OccupancyIso;          ///< the isosurfaces SkipDistance was built for
+  std::vector<int8_t> BrickDistance; ///< per brick, see Kernels/ptvOccupancy.h
+  IsoSurfaces OccupancyIso;          ///< the isosurfaces BrickDistance was built for
   int BrickCounts[3] = { 0, 0, 0 };
 
   std::vector<float> MaxDistance;

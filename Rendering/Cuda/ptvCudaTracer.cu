@@ -139,15 +139,15 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
     d.Transfer.StepRGBA = nullptr; // corrected per sample, as on the CPU
     d.Transfer.ShadowAlpha = nullptr;
   }
-  if (params.Occupancy.SkipDistance)
+  if (params.Occupancy.Distance)
   {
     const int* b = params.Occupancy.Bricks;
     const std::size_t bricks = static_cast<std::size_t>(b[0]) * b[1] * b[2];
-    if (!upload(in.Bricks, params.Occupancy.SkipDistance, bricks, "occupancy upload"))
+    if (!upload(in.Bricks, params.Occupancy.Distance, bricks, "occupancy upload"))
     {
       return false;
     }
-    d.Occupancy.SkipDistance = static_cast<const uint8_t*>(in.Bricks.Ptr);
+    d.Occupancy.Distance = static_cast<const int8_t*>(in.Bricks.Ptr);
   }
   const int w = params.Camera.Width, h = params.Camera.Height;
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);

@@ -24,17 +24,29 @@ PTV_HD PTV_INLINE int MarchSampleLimit(float tStart, float tEnd, float xi, float
   return static_cast<int>(Clamp(n, 0.f, 1073741824.f));
 }
 
-/// Smallest k in [kMin, kLimit] with MarchSampleT(k) >= tTarget (kLimit if none); invStep =
-/// 1 / step only seeds the search, the result is exact.
-PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
-  float tStart, float xi, float step, float invStep, float tTarget, int kMin, int kLimit)
+/// About the first sample at or after tTarget, clamped to [kMin, kLimit] (kLimit when tTarget
+/// is infinite or NaN): the rounded quotient, which may be one sample off either way.
+PTV_HD PTV_INLINE int SampleNear(
+  float tStart, float xi, float invStep, float tTarget, int kMin, int kLimit)
 {
   const float estimate = ceilf((tTarget - tStart) * invStep - xi);
   if (!(estimate < static_cast<float>(kLimit)))
   {
     return kLimit;
   }
-  int k = estimate > static_cast<float>(kMin) ? static_cast<int>(estimate) : kMin;
+  return estimate > static_cast<float>(kMin) ? static_cast<int>(estimate) : kMin;
+}
+
+/// Smallest k in [kMin, kLimit] with MarchSampleT(k) >= tTarget (kLimit if none); invStep =
+/// 1 / step only seeds the search (SampleNear), the result is exact.
+PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
+  float tStart, float xi, float step, float invStep, float tTarget, int kMin, int kLimit)
+{
+  int k = SampleNear(tStart, xi, invStep, tTarget, kMin, kLimit);
+  if (k == kLimit)
+  {
+    return kLimit;
+  }
   while (k > kMin && MarchSampleT(tStart, xi, step, k - 1) >= tTarget)
   {
     --k;
@@ -52,10 +64,11 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
  * visit(k, t, pIdx) (pIdx = oIdx + dIdx t) for each until it returns true (stop). With an occupancy
  * grid, samples in empty regions are skipped without a call: at a sample in an empty brick the
  * march jumps to the first sample at or after the exit of the empty cube around it
- * (RegionExitT); at a sample in an occupied brick it visits every sample before that brick's
- * exit without further lookups. Skipped samples all have zero opacity and visiting one more
- * (rounding at a brick face) only classifies a transparent sample, so the visits that matter are
- * the same with and without skipping.
+ * (RegionExitT; exact, FirstSampleAtOrAfter); at a sample in an occupied brick it visits every
+ * sample up to about the exit of the occupied cube around it without further lookups (there a
+ * sample more or less before the next lookup costs nothing, so SampleNear's estimate will do).
+ * Skipped samples all have zero opacity and the visits are the same samples, so the visits
+ * that matter are the same with and without skipping.
  */
 template <class Visit>
 PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, float tStart,
@@ -64,7 +77,7 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
   const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
   // Reciprocals for the skipping arithmetic (per ray, not per brick).
   const float invStep = 1.f / step;
-  const float invBrick = occ.SkipDistance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
+  const float invBrick = occ.Distance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
   const Vec3 invD = MakeVec3(1.f / dIdx.x, 1.f / dIdx.y, 1.f / dIdx.z);
   int k = 0;
   while (k < kLimit)
@@ -76,20 +89,18 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
     }
     Vec3 pIdx = oIdx + dIdx * t;
     int kEnd = kLimit;
-    if (occ.SkipDistance)
+    if (occ.Distance)
     {
       int b[3];
       BrickOf(occ, pIdx, invBrick, b);
-      const int distance = SkipDistanceAt(occ, b);
-      const float tExit =
-        RegionExitT(occ, oIdx, dIdx, invD, t, b, distance > 0 ? distance - 1 : 0);
-      const int kExit = FirstSampleAtOrAfter(tStart, xi, step, invStep, tExit, k + 1, kLimit);
+      const int distance = DistanceAt(occ, b);
+      const float tExit = RegionExitT(occ, oIdx, dIdx, invD, t, b, CubeRadius(distance));
       if (distance > 0)
       {
-        k = kExit;
+        k = FirstSampleAtOrAfter(tStart, xi, step, invStep, tExit, k + 1, kLimit);
         continue;
       }
-      kEnd = kExit;
+      kEnd = SampleNear(tStart, xi, invStep, tExit, k + 1, kLimit);
     }
     for (;;)
     {

@@ -1,7 +1,7 @@
 /**
  * @file ptvOccupancy.h
- * @brief Empty-space skipping: per-brick distances to the nearest brick that may be visible, and
- *        the ray/region exit query.
+ * @brief Empty-space skipping: per-brick signed distances (to the nearest brick that may be
+ *        visible, or to the nearest empty one), and the ray/region exit query.
  *
  * The grid is cut into bricks of BrickSize^3 voxels in index space; brick b covers positions
  * [b B, (b+1) B) on each axis, with the outermost bricks extended to infinity (positions outside
@@ -20,13 +20,20 @@
  * are transparent). Infinite voxel values make the widened range infinite, which only makes the
  * test more conservative. Gradient opacity only scales opacity down and is ignored here.
  *
- * SkipDistance[bx + Bricks[0] * (by + Bricks[1] * bz)] is the Chebyshev (chessboard) distance,
- * in bricks, from the brick to the nearest occupied one, capped at 255: 0 for an occupied brick,
- * d >= 1 when every brick within distance d - 1 is empty. A ray in an empty brick b therefore
- * crosses the whole cube of bricks [b - (d-1), b + (d-1)] (clipped to the grid; edge bricks still
- * extend to infinity) in one step (RegionExitT), instead of one brick at a time. Bricks outside
- * the grid count as empty. The distances come from the exact two-pass chamfer transform with the
- * 26-neighbourhood and unit weights (which computes the chessboard metric exactly).
+ * Distance[bx + Bricks[0] * (by + Bricks[1] * bz)] is a signed chessboard (Chebyshev) distance
+ * in bricks, so that one lookup settles a whole cube of bricks around the brick:
+ *  - d >= 1 (empty brick): every brick within distance d - 1 is empty. A ray in empty brick b
+ *    skips the whole cube [b - (d-1), b + (d-1)] in one step (RegionExitT), instead of one
+ *    brick at a time. d is the distance to the nearest occupied brick, capped at 127.
+ *  - d <= 0 (occupied brick): every brick within distance -d is occupied (-d is the distance to
+ *    the nearest empty brick minus one, capped at 127). A ray in occupied brick b visits every
+ *    sample up to the exit of the cube [b + d, b - d] without another lookup: inside dense
+ *    material it looks up once per cube, not once per brick. Visiting samples is always exact
+ *    (only skipping relies on the grid), so this part needs no conservative rounding.
+ * Cubes are clipped to the grid; edge bricks still extend to infinity, and bricks outside the
+ * grid limit neither distance. Both come from the exact two-pass chamfer transform with the
+ * 26-neighbourhood and unit weights (which computes the chessboard metric exactly), one from
+ * the occupied bricks and one from the empty ones.
  */
 #ifndef ptvOccupancy_h
 #define ptvOccupancy_h
@@ -42,8 +49,9 @@ namespace ptv
 {
 struct OccupancyGrid
 {
-  /// Bricks[0]*Bricks[1]*Bricks[2] distances (0 = occupied), or nullptr (no skipping)
-  const uint8_t* SkipDistance;
+  /// Bricks[0]*Bricks[1]*Bricks[2] signed distances (>= 1 empty, <= 0 occupied; see the file
+  /// comment), or nullptr (no skipping)
+  const int8_t* Distance;
   int BrickSize; ///< voxels per brick edge (>= 1)
   int Bricks[3]; ///< brick counts
 };
@@ -71,10 +79,17 @@ PTV_HD PTV_INLINE void BrickOf(const OccupancyGrid& occ, Vec3 p, float invBrickS
   b[2] = BrickCoordinate(p.z, invBrickSize, occ.Bricks[2]);
 }
 
-/// SkipDistance of brick b (0: occupied).
-PTV_HD PTV_INLINE int SkipDistanceAt(const OccupancyGrid& occ, const int b[3])
+/// Signed distance of brick b (>= 1: empty, <= 0: occupied).
+PTV_HD PTV_INLINE int DistanceAt(const OccupancyGrid& occ, const int b[3])
 {
-  return occ.SkipDistance[b[0] + occ.Bricks[0] * (b[1] + occ.Bricks[1] * b[2])];
+  return occ.Distance[b[0] + occ.Bricks[0] * (b[1] + occ.Bricks[1] * b[2])];
+}
+
+/// Half-width, in bricks, of the cube around a brick of signed distance d that a ray crosses
+/// in one step: d - 1 for an empty brick, -d for an occupied one.
+PTV_HD PTV_INLINE int CubeRadius(int d)
+{
+  return d > 0 ? d - 1 : -d;
 }
 
 /// Exit parameter on one axis of the slab of bricks [b - r, b + r] for a ray with origin o and
@@ -163,8 +178,10 @@ inline void BuildBrickRanges(
 }
 
 /**
- * HOST ONLY. In place: turn flags (0 empty, else occupied) over bricks[3] into SkipDistance
- * values (see the file comment) by a forward and a backward chamfer pass.
+ * HOST ONLY. In place: turn flags (0 or not) over bricks[3] into each brick's chessboard
+ * distance to the nearest flagged brick (0 for flagged ones, 255 when none is flagged or the
+ * distance is larger) by a forward and a backward chamfer pass; bricks outside the grid are
+ * not flagged.
  */
 inline void ChessboardDistance(const int bricks[3], uint8_t* d)
 {
@@ -210,61 +227,79 @@ inline void ChessboardDistance(const int bricks[3], uint8_t* d)
 }
 
 /**
- * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] with each brick's SkipDistance from the
- * brick ranges of BuildBrickRanges(): 0 for bricks that may hold visible samples (the table's
- * largest opacity over the brick's range is > 0; the table is piecewise linear, so that largest
- * value is at an entry inside the range or at an interpolated end point), the chessboard
- * distance to the nearest such brick for provably empty ones; see the file comment. With
- * isosurfaces (@a iso with Count > 0) a brick is occupied when a visible iso value lies in its
- * range instead (ptvIsosurface.h).
+ * HOST ONLY. The signed distances of the file comment from occupancy flags (0 empty, else
+ * occupied) over bricks[3]: @a out[b] >= 1 for empty bricks, <= 0 for occupied ones.
+ */
+inline void SignedChessboardDistance(const int bricks[3], const uint8_t* occupied, int8_t* out)
+{
+  const std::size_t n = static_cast<std::size_t>(bricks[0]) * bricks[1] * bricks[2];
+  std::vector<uint8_t> toOccupied(occupied, occupied + n);
+  std::vector<uint8_t> toEmpty(n);
+  for (std::size_t b = 0; b < n; ++b)
+  {
+    toEmpty[b] = occupied[b] ? 0 : 1;
+  }
+  ChessboardDistance(bricks, toOccupied.data());
+  ChessboardDistance(bricks, toEmpty.data());
+  for (std::size_t b = 0; b < n; ++b)
+  {
+    const int d = occupied[b] ? -(toEmpty[b] - 1) : toOccupied[b];
+    out[b] = static_cast<int8_t>(ClampInt(d, -127, 127));
+  }
+}
+
+/**
+ * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] with each brick's signed distance from the
+ * brick ranges of BuildBrickRanges(): a brick is occupied when it may hold visible samples (the
+ * table's largest opacity over the brick's range is > 0; the table is piecewise linear, so that
+ * largest value is at an entry inside the range or at an interpolated end point), provably
+ * empty otherwise; see the file comment. With isosurfaces (@a iso with Count > 0) a brick is
+ * occupied when a visible iso value lies in its range instead (ptvIsosurface.h).
  */
 inline void BuildOccupancy(const TransferTable& tf, const int bricks[3], const float* ranges,
-  uint8_t* out, const IsoSurfaces* iso = nullptr)
+  int8_t* out, const IsoSurfaces* iso = nullptr)
 {
   const int64_t n = static_cast<int64_t>(bricks[0]) * bricks[1] * bricks[2];
-  if (!tf.RGBA || tf.Size <= 0)
+  std::vector<uint8_t> occupied(static_cast<std::size_t>(n), 0);
+  if (tf.RGBA && tf.Size > 0) // no table: every sample is transparent, every brick empty
   {
+    // positive[i] = number of entries < i with opacity > 0: any opacity in [i0, i1] in O(1).
+    std::vector<int> positive(static_cast<std::size_t>(tf.Size) + 1);
+    positive[0] = 0;
+    for (int i = 0; i < tf.Size; ++i)
+    {
+      positive[i + 1] = positive[i] + (tf.RGBA[4 * i + 3] > 0.f ? 1 : 0);
+    }
     for (int64_t b = 0; b < n; ++b)
     {
-      out[b] = 0; // no table: every sample is transparent, every brick empty
+      const float lo = ranges[2 * b];
+      const float hi = ranges[2 * b + 1];
+      bool visible = false;
+      if (iso && iso->Count > 0)
+      {
+        visible = IsoInRange(*iso, tf, lo, hi); // a visible iso value inside the range
+      }
+      else if (lo <= hi)
+      {
+        visible = LookupTransfer(tf, lo).Opacity > 0.f || LookupTransfer(tf, hi).Opacity > 0.f;
+        const int i0 =
+          static_cast<int>(ceilf(TableCoordinate(lo, tf.ScalarMin, tf.ScalarMax, tf.Size)));
+        const int i1 =
+          static_cast<int>(floorf(TableCoordinate(hi, tf.ScalarMin, tf.ScalarMax, tf.Size)));
+        visible = visible || (i0 <= i1 && positive[i1 + 1] - positive[i0] > 0);
+      }
+      occupied[b] = visible ? 1 : 0;
     }
-    ChessboardDistance(bricks, out);
-    return;
   }
-  // positive[i] = number of entries < i with opacity > 0: any opacity in [i0, i1] in O(1).
-  std::vector<int> positive(static_cast<std::size_t>(tf.Size) + 1);
-  positive[0] = 0;
-  for (int i = 0; i < tf.Size; ++i)
-  {
-    positive[i + 1] = positive[i] + (tf.RGBA[4 * i + 3] > 0.f ? 1 : 0);
-  }
-  for (int64_t b = 0; b < n; ++b)
-  {
-    const float lo = ranges[2 * b];
-    const float hi = ranges[2 * b + 1];
-    bool visible = false;
-    if (iso && iso->Count > 0)
-    {
-      visible = IsoInRange(*iso, tf, lo, hi); // isosurfaces: a visible value inside the range
-    }
-    else if (lo <= hi)
-    {
-      visible = LookupTransfer(tf, lo).Opacity > 0.f || LookupTransfer(tf, hi).Opacity > 0.f;
-      const int i0 = static_cast<int>(ceilf(TableCoordinate(lo, tf.ScalarMin, tf.ScalarMax, tf.Size)));
-      const int i1 = static_cast<int>(floorf(TableCoordinate(hi, tf.ScalarMin, tf.ScalarMax, tf.Size)));
-      visible = visible || (i0 <= i1 && positive[i1 + 1] - positive[i0] > 0);
-    }
-    out[b] = visible ? 1 : 0;
-  }
-  ChessboardDistance(bricks, out);
+  SignedChessboardDistance(bricks, occupied.data(), out);
 }
 
 /// Occupancy view over a distance array built by BuildOccupancy() for g and brickSize.
 PTV_HD PTV_INLINE OccupancyGrid MakeOccupancyGrid(
-  const VolumeGrid& g, int brickSize, const uint8_t* skipDistance)
+  const VolumeGrid& g, int brickSize, const int8_t* distance)
 {
   OccupancyGrid occ;
-  occ.SkipDistance = skipDistance;
+  occ.Distance = distance;
   occ.BrickSize = brickSize;
   ComputeBrickCounts(g.Dims, brickSize, occ.Bricks);
   return occ;

@@ -31,7 +31,7 @@ struct TraceParams
 {
   VolumeGrid Volume;
   TransferTable Transfer;
-  OccupancyGrid Occupancy; ///< Occupancy.SkipDistance == nullptr: no skipping
+  OccupancyGrid Occupancy; ///< Occupancy.Distance == nullptr: no skipping
   ClipRegion Clip;         ///< clipping planes and cropping (ptvClipping.h); default: none
   IsoSurfaces Iso;         ///< Iso.Count > 0: isosurfaces instead of the composite medium
   TransferTable ColorTable; ///< colours of Volume.ColorScalars (2-component data); else unused

@@ -44,7 +44,7 @@ struct Scene
   std::vector<float> Voxels;
   std::vector<float> Table;
   std::vector<float> GradientTable;
-  std::vector<uint8_t> SkipDistance;
+  std::vector<int8_t> BrickDistance;
   double IndexToWorld[3][4]; // world = A index + o
   ptv::TraceParams P;
 };
@@ -210,7 +210,7 @@ void MakeScene(Scene& s, int width, int height)
   p.Transfer.ScalarMin = 0.f;
   p.Transfer.ScalarMax = 100.f;
   p.Transfer.GradientOpacity = nullptr;
-  p.Occupancy.SkipDistance = nullptr;
+  p.Occupancy.Distance = nullptr;
 
   double centre[3];
   WorldCentre(s, centre);
@@ -240,11 +240,11 @@ void EnableSkipping(Scene& s, int brickSize)
 {
   int bricks[3];
   ptv::ComputeBrickCounts(s.P.Volume.Dims, brickSize, bricks);
-  s.SkipDistance.assign(static_cast<size_t>(bricks[0]) * bricks[1] * bricks[2], 0);
-  std::vector<float> ranges(2 * s.SkipDistance.size());
+  s.BrickDistance.assign(static_cast<size_t>(bricks[0]) * bricks[1] * bricks[2], 0);
+  std::vector<float> ranges(2 * s.BrickDistance.size());
   ptv::BuildBrickRanges(s.P.Volume, brickSize, 0, bricks[2], ranges.data());
-  ptv::BuildOccupancy(s.P.Transfer, bricks, ranges.data(), s.SkipDistance.data());
-  s.P.Occupancy = ptv::MakeOccupancyGrid(s.P.Volume, brickSize, s.SkipDistance.data());
+  ptv::BuildOccupancy(s.P.Transfer, bricks, ranges.data(), s.BrickDistance.data());
+  s.P.Occupancy = ptv::MakeOccupancyGrid(s.P.Volume, brickSize, s.BrickDistance.data());
 }
 
 void Render(const ptv::TraceParams& p, std::vector<ptv::PixelSample>& img)
@@ -318,7 +318,7 @@ bool CompareSkipping(Scene& s, const char* name, int brickSize)
   {
     s.P.Frame = frame;
     std::vector<ptv::PixelSample> off, on;
-    s.P.Occupancy.SkipDistance = nullptr;
+    s.P.Occupancy.Distance = nullptr;
     auto t0 = std::chrono::steady_clock::now();
     Render(s.P, off);
     tOff += Seconds(t0);
@@ -333,15 +333,77 @@ bool CompareSkipping(Scene& s, const char* name, int brickSize)
       events += px.Alpha > 0.f;
     }
   }
-  s.P.Occupancy.SkipDistance = nullptr;
-  int empty = 0;
-  for (uint8_t o : s.SkipDistance)
-    empty += o > 0;
+  s.P.Occupancy.Distance = nullptr;
+  int empty = 0, thick = 0; // empty bricks, occupied bricks inside an occupied cube (radius >= 1)
+  for (int8_t d : s.BrickDistance)
+  {
+    empty += d > 0;
+    thick += d < 0;
+  }
   std::printf("(b) %s: %dx%d x 2 frames, %d first hits, %d events, %d of %zu bricks (size %d) "
-              "empty; identical %d (%.3f s without skipping, %.3f s with)\n",
-    name, w, h, hits, events, empty, s.SkipDistance.size(), brickSize, ok, tOff, tOn);
-  // The comparison must be non-trivial: hits and misses, and some empty bricks.
-  return ok && hits > w * h / 4 && hits < 2 * w * h && empty > 0;
+              "empty, %d inside occupied cubes; identical %d (%.3f s without skipping, %.3f s "
+              "with)\n",
+    name, w, h, hits, events, empty, s.BrickDistance.size(), brickSize, thick, ok, tOff, tOn);
+  // The comparison must be non-trivial: hits and misses, empty bricks to skip and occupied
+  // cubes to cross in one step.
+  return ok && hits > w * h / 4 && hits < 2 * w * h && empty > 0 && thick > 0;
+}
+
+/// Brute-force chessboard distance from brick (x, y, z) to the nearest brick with
+/// flags == want (255 when there is none; bricks outside the grid never count).
+int NearestWith(const std::vector<uint8_t>& flags, const int b[3], int x, int y, int z, int want)
+{
+  int best = 255;
+  for (int q = 0; q < b[0] * b[1] * b[2]; ++q)
+    if ((flags[q] != 0) == (want != 0))
+    {
+      const int qx = q % b[0], qy = (q / b[0]) % b[1], qz = q / (b[0] * b[1]);
+      best = std::min(best,
+        std::max(std::abs(qx - x), std::max(std::abs(qy - y), std::abs(qz - z))));
+    }
+  return best;
+}
+
+/// Signed distances (ptvOccupancy.h): empty bricks d = distance to the nearest occupied one,
+/// occupied bricks -(distance to the nearest empty one - 1), both capped at 127.
+bool TestSignedChessboard()
+{
+  const int b[3] = { 9, 6, 11 };
+  const int n = b[0] * b[1] * b[2];
+  uint32_t state = 777u;
+  bool ok = true;
+  int deepest = 0, farthest = 0;
+  for (int density : { 0, 3, 50, 97, 100 })
+  {
+    std::vector<uint8_t> flags(n);
+    for (int i = 0; i < n; ++i)
+    {
+      state = state * 1664525u + 1013904223u;
+      flags[i] = static_cast<int>((state >> 8) % 100) < density ? 1 : 0;
+    }
+    // A solid occupied block so that some radii exceed 1.
+    for (int z = 2; z < 9 && density >= 50; ++z)
+      for (int y = 0; y < 6; ++y)
+        for (int x = 1; x < 8; ++x)
+          flags[x + b[0] * (y + b[1] * z)] = 1;
+    std::vector<int8_t> d(n);
+    ptv::SignedChessboardDistance(b, flags.data(), d.data());
+    for (int z = 0; z < b[2]; ++z)
+      for (int y = 0; y < b[1]; ++y)
+        for (int x = 0; x < b[0]; ++x)
+        {
+          const int i = x + b[0] * (y + b[1] * z);
+          const int want = flags[i] ? -(std::min(NearestWith(flags, b, x, y, z, 0), 128) - 1)
+                                    : std::min(NearestWith(flags, b, x, y, z, 1), 127);
+          ok = ok && d[i] == want;
+          deepest = std::max(deepest, flags[i] && want > -127 ? -want : 0);
+          farthest = std::max(farthest, !flags[i] && want < 127 ? want : 0);
+        }
+  }
+  std::printf("(b) signed chessboard distances equal brute force on 5 random 9x6x11 grids: %d "
+              "(largest occupied radius %d, largest finite empty distance %d)\n",
+    ok, deepest, farthest);
+  return ok && deepest >= 2 && farthest >= 2;
 }
 
 bool TestChessboard()
@@ -382,7 +444,7 @@ bool TestChessboard()
   }
   std::printf("(b) chessboard skip distances equal brute force on 3 random 7x5x9 grids: %d "
               "(largest finite distance %d)\n", ok, maxSeen);
-  return ok && maxSeen >= 3;
+  return ok && maxSeen >= 3 && TestSignedChessboard();
 }
 
 bool TestSkipping()

@@ -102,7 +102,7 @@ void MakeSlab(Slab& s)
   p.Transfer.Size = 2;
   p.Transfer.ScalarMin = 0.f;
   p.Transfer.ScalarMax = 2.f;
-  p.Occupancy.SkipDistance = nullptr;
+  p.Occupancy.Distance = nullptr;
   const float ndc[16] = { 1.f, 0.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 1.5f, 0.5f, 0.f, 0.f,
     0.f, 1.f }; // NDC z = -1 -> world z = -1, z = +1 -> z = 2
   for (int i = 0; i < 16; ++i)
