@@ -26,6 +26,24 @@ namespace ptv
 {
 namespace
 {
+/// Shadow and environment steps in camera steps: kShadowStepScale, or for studies
+/// (Testing/Benchmarks/shadow_step.py) PTV_SHADOW_STEP_SCALE in [1, 16]; anything else is
+/// ignored.
+float ShadowStepScale()
+{
+  const char* value = std::getenv("PTV_SHADOW_STEP_SCALE");
+  if (value)
+  {
+    char* end = nullptr;
+    const float s = std::strtof(value, &end);
+    if (end != value && *end == '\0' && s >= 1.0f && s <= 16.0f)
+    {
+      return s;
+    }
+  }
+  return 2.0f;
+}
+
 /// Where transmittance rays start Russian roulette: kRouletteThreshold, or for studies
 /// (Testing/Benchmarks/roulette.py) PTV_ROULETTE_THRESHOLD in (0, 1]; anything else is ignored.
 float RouletteThreshold()
@@ -539,7 +557,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
 
   // Sampling and shading.
   p.StepWorld = static_cast<float>(step);
-  p.ShadowStepScale = 2.0f;
+  p.ShadowStepScale = ShadowStepScale();
   p.RouletteThreshold = RouletteThreshold();
   p.UnitDistance = static_cast<float>(std::max(1e-12, prop->GetScalarOpacityUnitDistance(0)));
   this->SetStepTables(p);
