@@ -201,8 +201,9 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   GenerateRay(p.Camera, static_cast<float>(x) + jx, static_cast<float>(y) + jy, origin, dir);
   const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, origin);
   const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, dir);
+  const Vec3 invD = Reciprocal(dIdx);
   float tEnter, tExit;
-  if (!IntersectBox(p.Volume, oIdx, dIdx, tEnter, tExit))
+  if (!IntersectBox(p.Volume, oIdx, dIdx, invD, tEnter, tExit))
   {
     return out;
   }
@@ -229,7 +230,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
     return out;
   }
   const float stepOverUnit = StepOverUnit(p, step);
-  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+  March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
     [&](int, float t, Vec3 pIdx)
     {
       const TransferSample ts = ClassifyStep(p, pIdx, stepOverUnit);

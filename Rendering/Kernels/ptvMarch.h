@@ -17,10 +17,11 @@ PTV_HD PTV_INLINE float MarchSampleT(float tStart, float xi, float step, int k)
   return tStart + (static_cast<float>(k) + xi) * step;
 }
 
-/// An upper bound on the number of samples in [tStart, tEnd) (clamped to 2^30).
-PTV_HD PTV_INLINE int MarchSampleLimit(float tStart, float tEnd, float xi, float step)
+/// An upper bound on the number of samples in [tStart, tEnd) (clamped to 2^30); invStep =
+/// 1 / step (its rounding is far inside the bound's margin of two samples).
+PTV_HD PTV_INLINE int MarchSampleLimit(float tStart, float tEnd, float xi, float invStep)
 {
-  const float n = ceilf((tEnd - tStart) / step - xi) + 2.f;
+  const float n = ceilf((tEnd - tStart) * invStep - xi) + 2.f;
   return static_cast<int>(Clamp(n, 0.f, 1073741824.f));
 }
 
@@ -68,17 +69,15 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
  * sample up to about the exit of the occupied cube around it without further lookups (there a
  * sample more or less before the next lookup costs nothing, so SampleNear's estimate will do).
  * Skipped samples all have zero opacity and the visits are the same samples, so the visits
- * that matter are the same with and without skipping.
+ * that matter are the same with and without skipping. invD = Reciprocal(dIdx) and invStep =
+ * 1 / step come from the caller, which computes them once (per ray, per event).
  */
 template <class Visit>
-PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, float tStart,
-  float tEnd, float xi, float step, Visit&& visit)
+PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec3 invD,
+  float tStart, float tEnd, float xi, float step, float invStep, Visit&& visit)
 {
-  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, step);
-  // Reciprocals for the skipping arithmetic (per ray, not per brick).
-  const float invStep = 1.f / step;
+  const int kLimit = MarchSampleLimit(tStart, tEnd, xi, invStep);
   const float invBrick = occ.Distance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
-  const Vec3 invD = MakeVec3(1.f / dIdx.x, 1.f / dIdx.y, 1.f / dIdx.z);
   int k = 0;
   while (k < kLimit)
   {
@@ -120,6 +119,15 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, flo
       pIdx = oIdx + dIdx * t;
     }
   }
+}
+
+/// March() computing the reciprocals itself (the isosurface marches).
+template <class Visit>
+PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, float tStart,
+  float tEnd, float xi, float step, Visit&& visit)
+{
+  March(occ, oIdx, dIdx, Reciprocal(dIdx), tStart, tEnd, xi, step, 1.f / step,
+    static_cast<Visit&&>(visit));
 }
 }
 

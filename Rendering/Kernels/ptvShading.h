@@ -168,6 +168,24 @@ PTV_HD PTV_INLINE float ShadowStep(const TraceParams& p)
   return p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
 }
 
+/// The step of shadow and environment rays and the quotients each of them needs: computed once
+/// per event (ShadeEvent), not per ray, to keep divisions out of the rays' setup.
+struct TransmittanceSteps
+{
+  float Step;         ///< ShadowStep(p)
+  float InvStep;      ///< 1 / Step
+  float StepOverUnit; ///< StepOverUnit(p, Step)
+};
+
+PTV_HD PTV_INLINE TransmittanceSteps MakeTransmittanceSteps(const TraceParams& p)
+{
+  TransmittanceSteps s;
+  s.Step = ShadowStep(p);
+  s.InvStep = 1.f / s.Step;
+  s.StepOverUnit = StepOverUnit(p, s.Step);
+  return s;
+}
+
 /// Russian roulette while T < the threshold (TraceParams::RouletteThreshold): survive with
 /// probability 1/2 and double T (unbiased); returns false (and T = 0) when the ray ends.
 PTV_HD PTV_INLINE bool Roulette(const TraceParams& p, float& T, Rng& rng)
@@ -212,19 +230,19 @@ PTV_HD PTV_INLINE PTV_NOINLINE float EstimateTransmittanceIso(const TraceParams&
 
 /**
  * Unbiased transmittance estimate from world point x along unit direction w up to distance
- * tMax (or the box exit): jittered march with step StepWorld * ShadowStepScale, empty-space
- * skipping and Russian roulette (see the file comment, step 6).
+ * tMax (or the box exit): jittered march with step StepWorld * ShadowStepScale (@a steps =
+ * MakeTransmittanceSteps(p)), empty-space skipping and Russian roulette (see the file comment,
+ * step 6).
  */
-PTV_HD PTV_INLINE float EstimateTransmittance(
-  const TraceParams& p, Vec3 x, Vec3 w, float tMax, Rng& rng)
+PTV_HD PTV_INLINE float EstimateTransmittance(const TraceParams& p,
+  const TransmittanceSteps& steps, Vec3 x, Vec3 w, float tMax, Rng& rng)
 {
   const float xi = NextFloat(rng);
-  const float step = ShadowStep(p);
-  const float stepOverUnit = StepOverUnit(p, step);
   const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, x);
   const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, w);
+  const Vec3 invD = Reciprocal(dIdx);
   float tEnter, tExit;
-  if (!IntersectBox(p.Volume, oIdx, dIdx, tEnter, tExit))
+  if (!IntersectBox(p.Volume, oIdx, dIdx, invD, tEnter, tExit))
   {
     return 1.f;
   }
@@ -239,10 +257,10 @@ PTV_HD PTV_INLINE float EstimateTransmittance(
   {
     return EstimateTransmittanceIso(p, oIdx, dIdx, tStart, tEnd, xi, rng);
   }
-  March(p.Occupancy, oIdx, dIdx, tStart, tEnd, xi, step,
+  March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, steps.Step, steps.InvStep,
     [&](int, float, Vec3 pIdx)
     {
-      const float a = ShadowStepOpacity(p, pIdx, stepOverUnit);
+      const float a = ShadowStepOpacity(p, pIdx, steps.StepOverUnit);
       if (a > 0.f)
       {
         T *= 1.f - a;
@@ -312,10 +330,12 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
     f = c * p.Diffuse;
   }
   Vec3 radiance = MakeVec3(0.f, 0.f, 0.f);
+  const TransmittanceSteps steps = MakeTransmittanceSteps(p);
   const Vec3 directCoefficient = light.Radiance * f;
   if (!IsZero(directCoefficient) && !IsZero(l))
   {
-    radiance += directCoefficient * EstimateTransmittance(p, xs, l, lightDistance, rng);
+    radiance +=
+      directCoefficient * EstimateTransmittance(p, steps, xs, l, lightDistance, rng);
   }
 
   // VTK's flat ambient term.
@@ -333,7 +353,7 @@ PTV_HD PTV_INLINE Vec3 ShadeEvent(
     const float u2 = NextFloat(rng);
     const Vec3 w = shaded ? SampleCosineHemisphere(n, u1, u2) : SampleUniformSphere(u1, u2);
     const float reach = p.EnvironmentReach > 0.f ? p.EnvironmentReach : kTMax;
-    radiance += envCoefficient * EstimateTransmittance(p, xs, w, reach, rng);
+    radiance += envCoefficient * EstimateTransmittance(p, steps, xs, w, reach, rng);
   }
   return radiance;
 }

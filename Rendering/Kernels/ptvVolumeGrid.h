@@ -158,14 +158,21 @@ PTV_HD PTV_INLINE Vec3 GradientIndex(const VolumeGrid& g, Vec3 p)
   return MakeVec3(0.5f * gx, 0.5f * gy, 0.5f * gz);
 }
 
-/// Clip [t0, t1] by the slab lo <= o + t d <= hi on one axis; false when the slab is missed.
-PTV_HD PTV_INLINE bool ClipSlab(float o, float d, float lo, float hi, float& t0, float& t1)
+/// Component-wise reciprocals 1 / d (infinite for zero components): computed once per ray and
+/// shared by IntersectBox and March.
+PTV_HD PTV_INLINE Vec3 Reciprocal(Vec3 d)
+{
+  return MakeVec3(1.f / d.x, 1.f / d.y, 1.f / d.z);
+}
+
+/// ClipSlab with the reciprocal inv = 1 / d already computed.
+PTV_HD PTV_INLINE bool ClipSlabInv(
+  float o, float d, float inv, float lo, float hi, float& t0, float& t1)
 {
   if (d == 0.f)
   {
     return o >= lo && o <= hi; // parallel: inside the slab for all t, or never
   }
-  const float inv = 1.f / d;
   float ta = (lo - o) * inv;
   float tb = (hi - o) * inv;
   if (ta > tb)
@@ -179,26 +186,41 @@ PTV_HD PTV_INLINE bool ClipSlab(float o, float d, float lo, float hi, float& t0,
   return t0 <= t1;
 }
 
+/// Clip [t0, t1] by the slab lo <= o + t d <= hi on one axis; false when the slab is missed.
+PTV_HD PTV_INLINE bool ClipSlab(float o, float d, float lo, float hi, float& t0, float& t1)
+{
+  return ClipSlabInv(o, d, 1.f / d, lo, hi, t0, t1);
+}
+
 /**
  * Slab-method intersection of the line o + t d (index space) with the box [0, Dims-1].
  * On success tEnter <= tExit bound the overlap (tEnter may be negative when o is inside);
  * returns false when the line misses the box or the box lies entirely behind (tExit < 0).
  * Zero direction components are handled exactly (inside/outside that slab for all t).
+ * invD = Reciprocal(d).
  */
 PTV_HD PTV_INLINE bool IntersectBox(
-  const VolumeGrid& g, Vec3 o, Vec3 d, float& tEnter, float& tExit)
+  const VolumeGrid& g, Vec3 o, Vec3 d, Vec3 invD, float& tEnter, float& tExit)
 {
   float t0 = -kTMax;
   float t1 = kTMax;
-  if (!ClipSlab(o.x, d.x, 0.f, static_cast<float>(g.Dims[0] - 1), t0, t1) ||
-    !ClipSlab(o.y, d.y, 0.f, static_cast<float>(g.Dims[1] - 1), t0, t1) ||
-    !ClipSlab(o.z, d.z, 0.f, static_cast<float>(g.Dims[2] - 1), t0, t1) || t1 < 0.f)
+  if (!ClipSlabInv(o.x, d.x, invD.x, 0.f, static_cast<float>(g.Dims[0] - 1), t0, t1) ||
+    !ClipSlabInv(o.y, d.y, invD.y, 0.f, static_cast<float>(g.Dims[1] - 1), t0, t1) ||
+    !ClipSlabInv(o.z, d.z, invD.z, 0.f, static_cast<float>(g.Dims[2] - 1), t0, t1) ||
+    t1 < 0.f)
   {
     return false;
   }
   tEnter = t0;
   tExit = t1;
   return true;
+}
+
+/// IntersectBox computing the reciprocals itself.
+PTV_HD PTV_INLINE bool IntersectBox(
+  const VolumeGrid& g, Vec3 o, Vec3 d, float& tEnter, float& tExit)
+{
+  return IntersectBox(g, o, d, Reciprocal(d), tEnter, tExit);
 }
 }
 
