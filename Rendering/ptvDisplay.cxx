@@ -11,6 +11,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace ptv
@@ -59,12 +61,13 @@ Display::Display()
 Display::~Display() = default;
 
 //------------------------------------------------------------------------------
-void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth)
+void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth,
+  const int covered[4])
 {
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
-  if (!win || width <= 0 || height <= 0)
+  if (!win || width <= 0 || height <= 0 || covered[2] <= covered[0] || covered[3] <= covered[1])
   {
-    return;
+    return; // every fragment would be discarded
   }
   Upload(this->Impl->Color, win, width, height, 4, rgba);
   Upload(this->Impl->Depth, win, width, height, 1, depth);
@@ -97,6 +100,35 @@ void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, c
   state->vtkglEnable(GL_DEPTH_TEST);
   state->vtkglDepthFunc(GL_ALWAYS); // rays already stop at opaque geometry
   state->vtkglDepthMask(GL_TRUE);
+
+  // Only the rectangle the drawn pixels cover (the quad spans the viewport, one texel per
+  // pixel): the fragments outside it would all be discarded, and a software rasteriser pays
+  // for each of them. Within an enclosing scissor box, if one is set.
+  int viewport[4];
+  state->vtkglGetIntegerv(GL_VIEWPORT, viewport);
+  const double sx = static_cast<double>(viewport[2]) / width;
+  const double sy = static_cast<double>(viewport[3]) / height;
+  int box[4] = { viewport[0] + static_cast<int>(std::floor(covered[0] * sx)),
+    viewport[1] + static_cast<int>(std::floor(covered[1] * sy)),
+    viewport[0] + static_cast<int>(std::ceil(covered[2] * sx)),
+    viewport[1] + static_cast<int>(std::ceil(covered[3] * sy)) };
+  vtkOpenGLState::ScopedglEnableDisable scissorTestSaver(state, GL_SCISSOR_TEST);
+  vtkOpenGLState::ScopedglScissor scissorSaver(state);
+  if (state->GetEnumState(GL_SCISSOR_TEST))
+  {
+    int outer[4];
+    state->vtkglGetIntegerv(GL_SCISSOR_BOX, outer);
+    box[0] = std::max(box[0], outer[0]);
+    box[1] = std::max(box[1], outer[1]);
+    box[2] = std::min(box[2], outer[0] + outer[2]);
+    box[3] = std::min(box[3], outer[1] + outer[3]);
+  }
+  if (box[2] <= box[0] || box[3] <= box[1])
+  {
+    return;
+  }
+  state->vtkglEnable(GL_SCISSOR_TEST);
+  state->vtkglScissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
 
   this->Impl->Color->Activate();
   this->Impl->Depth->Activate();

@@ -25,9 +25,11 @@ public:
   /**
    * Blend @a rgba (width*height*4, premultiplied, bottom row first) over the framebuffer
    * (ONE, ONE_MINUS_SRC_ALPHA) and write @a depth (window depth in [0,1]; 1 = leave the depth
-   * buffer alone) where alpha > 0.
+   * buffer alone) where alpha > 0. @a covered (ShownImage::GetCovered) holds every such
+   * pixel: only that rectangle is drawn (nothing when it is empty).
    */
-  void Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth);
+  void Draw(vtkRenderer* ren, int width, int height, const float* rgba, const float* depth,
+    const int covered[4]);
 
   /**
    * Read the depth buffer of the framebuffer being drawn (not whatever read buffer the window

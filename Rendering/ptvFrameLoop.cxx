@@ -197,7 +197,8 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   }
   this->Shown.Update(ren, this->Accumulated, this->ShownPass(request, messages),
     this->Params.Camera, this->Inputs.GetWorldBounds(), request.Threads);
-  this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth());
+  this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth(),
+    this->Shown.GetCovered());
 }
 
 //------------------------------------------------------------------------------

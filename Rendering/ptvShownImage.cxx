@@ -102,19 +102,11 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
   const int height = passes.GetHeight();
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   this->Color.resize(4 * pixels);
-  this->Depth.assign(pixels, 1.0f);
+  this->Depth.resize(pixels);
+  this->RowCover.resize(2 * static_cast<std::size_t>(std::max(height, 0)));
   const float far = camera.FarDistance;
-  if (pass == PassRadiance || pass == PassDenoised || pass == PassConverged)
-  {
-    const float* rgb = passes.Data(pass);
-    const float* alpha = passes.Data(PassAlpha);
-    for (std::size_t i = 0; i < pixels; ++i)
-    {
-      std::copy(rgb + 3 * i, rgb + 3 * i + 3, &this->Color[4 * i]);
-      this->Color[4 * i + 3] = alpha[i];
-    }
-  }
-  else
+  const bool radiance = pass == PassRadiance || pass == PassDenoised || pass == PassConverged;
+  if (!radiance)
   {
     Colorize(pass, passes, bounds, far, this->Color.data());
   }
@@ -129,16 +121,32 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
     zRow[c] = toNdc->GetElement(2, c);
     wRow[c] = toNdc->GetElement(3, c);
   }
+  const float* rgb = passes.Data(radiance ? pass : PassRadiance);
+  const float* alpha = passes.Data(PassAlpha);
   const float* depth = passes.Data(PassDepth);
+  float* color = this->Color.data();
   float* shown = this->Depth.data();
+  int* rowCover = this->RowCover.data();
   ParallelFor(threads, 0, height, 16,
     [&](vtkIdType yBegin, vtkIdType yEnd)
     {
       for (vtkIdType y = yBegin; y < yEnd; ++y)
       {
+        int first = width, last = -1; // the row's drawn pixels (alpha not <= 0, as the shader)
         for (int x = 0; x < width; ++x)
         {
           const std::size_t i = static_cast<std::size_t>(y) * width + x;
+          if (radiance)
+          {
+            std::copy(rgb + 3 * i, rgb + 3 * i + 3, color + 4 * i);
+            color[4 * i + 3] = alpha[i];
+          }
+          if (!(color[4 * i + 3] <= 0.0f))
+          {
+            first = std::min(first, x);
+            last = x;
+          }
+          shown[i] = 1.0f;
           if (!IsHit(depth[i], far))
           {
             continue;
@@ -153,7 +161,26 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
             shown[i] = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
           }
         }
+        rowCover[2 * y] = first;
+        rowCover[2 * y + 1] = last;
       }
     });
+  this->Covered[0] = width;
+  this->Covered[1] = height;
+  this->Covered[2] = this->Covered[3] = 0;
+  for (int y = 0; y < height; ++y)
+  {
+    if (rowCover[2 * y + 1] >= rowCover[2 * y])
+    {
+      this->Covered[0] = std::min(this->Covered[0], rowCover[2 * y]);
+      this->Covered[1] = std::min(this->Covered[1], y);
+      this->Covered[2] = std::max(this->Covered[2], rowCover[2 * y + 1] + 1);
+      this->Covered[3] = y + 1;
+    }
+  }
+  if (this->Covered[2] <= this->Covered[0])
+  {
+    this->Covered[0] = this->Covered[1] = 0; // nothing drawn
+  }
 }
 }

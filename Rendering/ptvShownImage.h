@@ -8,7 +8,8 @@
  * colourised for inspection (opaque, in [0, 1], misses black: depths near = bright, normals
  * 0.5 n + 0.5, positions scaled to the volume's bounds). Depth: the window depth of the first
  * event along each pixel's centre ray (1 = no event: the depth buffer is left alone), so later
- * opaque geometry and picking see the volume.
+ * opaque geometry and picking see the volume. The rows are filled in parallel, with the
+ * rectangle the drawn pixels cover.
  */
 #ifndef ptvShownImage_h
 #define ptvShownImage_h
@@ -37,9 +38,18 @@ public:
   const float* GetColor() const { return this->Color.data(); }
   const float* GetDepth() const { return this->Depth.data(); }
 
+  /**
+   * The smallest pixel rectangle holding every drawn pixel (alpha not <= 0): columns
+   * [Covered[0], Covered[2]) and rows [Covered[1], Covered[3]); empty (all 0) when nothing is
+   * drawn. ptvDisplay draws only there (the volume often covers a small part of the view).
+   */
+  const int* GetCovered() const { return this->Covered; }
+
 private:
   std::vector<float> Color;
   std::vector<float> Depth;
+  std::vector<int> RowCover; ///< per row: first and last drawn column (last < first: none)
+  int Covered[4] = { 0, 0, 0, 0 };
 };
 }
 
