@@ -3,8 +3,10 @@
 
 For every dataset and image size, both mappers render the same volume, transfer function (the
 dataset's two-band preset), shading and camera in the same run. Each figure is the median of
---repeats timed renders after one warm-up. Our frames are forced to be fresh 1-spp frames by
-changing the seed before each render (an unchanged view would only accumulate).
+--repeats timed rounds after one warm-up round. Our frames are forced to be fresh 1-spp frames by
+changing the seed before each render (an unchanged view would only accumulate). Every figure
+is taken in interleaved rounds (see measure()), so a slow spell of the shared machine slows all
+of them alike, and ratios are medians of per-round ratios.
 
 Our mapper runs with Denoise off for the comparison (the denoiser is measured by
 benchmark_denoiser.py). Reported per row: whole-render time of each mapper (window.Render(), so
@@ -21,6 +23,7 @@ import os
 import platform
 import statistics
 import sys
+import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -57,56 +60,74 @@ def build_scene(dataset: str, size: int):
     return scene.window, scene.volume, ours, stock
 
 
-def median_ms(fn, repeats: int) -> float:
-    return pb.timed(fn, repeats)[0]
-
-
 def measure(dataset: str, size: int, repeats: int) -> dict:
+    """Every figure in interleaved rounds (one warm-up round, then --repeats timed ones): per
+    round the stock render, then our fresh frames with every core, 1 and 2 threads, the portable
+    build and with the denoiser, so that a slow spell of the shared machine slows all of them
+    alike; ratios are the median of the rounds' ratios. Each mapper renders once untimed after
+    it is swapped in."""
     window, volume, ours, stock = build_scene(dataset, size)
-    volume.SetMapper(stock)
-    stock_ms = median_ms(window.Render, repeats)
-
-    volume.SetMapper(ours)
     seed = [0]
-    trace_ms: dict[int, list[float]] = {}
-    denoise_ms: list[float] = []
 
-    def render_ours(threads: int) -> None:
-        """Render a fresh frame; threads -1 = every core, portable build (a separate key)."""
+    def render_ours(threads: int, portable: bool = False) -> dict:
+        """A fresh frame; threads 0 = every core."""
         seed[0] += 1
         ours.SetSeed(seed[0])
-        ours.SetNumberOfThreads(max(threads, 0))
-        window.Render()
-        trace_ms.setdefault(threads, []).append(ours.GetLastTraceTime())
-        denoise_ms.append(ours.GetLastDenoiseTime())
+        ours.SetNumberOfThreads(threads)
+        if portable:
+            os.environ["PTV_PORTABLE_KERNELS"] = "1"
+        try:
+            start = time.perf_counter()
+            window.Render()
+            whole = 1000.0 * (time.perf_counter() - start)
+        finally:
+            os.environ.pop("PTV_PORTABLE_KERNELS", None)
+        return {"whole": whole, "trace": ours.GetLastTraceTime(),
+                "denoise": ours.GetLastDenoiseTime()}
 
-    ours_ms = median_ms(lambda: render_ours(0), repeats)
-    trace_all = statistics.median(trace_ms[0][1:])
-    median_ms(lambda: render_ours(1), repeats)
-    trace_1 = statistics.median(trace_ms[1][1:])
-    median_ms(lambda: render_ours(2), repeats)
-    trace_2 = statistics.median(trace_ms[2][1:])
-    os.environ["PTV_PORTABLE_KERNELS"] = "1"
-    try:
-        median_ms(lambda: render_ours(-1), repeats)
-    finally:
-        del os.environ["PTV_PORTABLE_KERNELS"]
-    trace_portable = statistics.median(trace_ms[-1][1:])
-    ours.DenoiseOn()
-    denoise_ms.clear()
-    end_to_end_ms = median_ms(lambda: render_ours(0), repeats)
-    denoise_median = statistics.median(denoise_ms[1:])
-    ours.DenoiseOff()
+    keys = ("stock", "ours", "one", "two", "portable", "end_to_end")
+    rounds: dict = {k: [] for k in keys}
+    for round_ in range(repeats + 1):
+        volume.SetMapper(stock)
+        window.Render()
+        start = time.perf_counter()
+        window.Render()
+        got = {"stock": {"whole": 1000.0 * (time.perf_counter() - start)}}
+        volume.SetMapper(ours)
+        render_ours(0)
+        got["ours"] = render_ours(0)
+        got["one"] = render_ours(1)
+        got["two"] = render_ours(2)
+        got["portable"] = render_ours(0, portable=True)
+        ours.DenoiseOn()
+        got["end_to_end"] = render_ours(0)
+        ours.DenoiseOff()
+        if round_ > 0:
+            for k in keys:
+                rounds[k].append(got[k])
+
+    def median(key: str, field: str) -> float:
+        return statistics.median(r[field] for r in rounds[key])
+
+    def ratio(key_a: str, field_a: str, key_b: str, field_b: str) -> float:
+        return pb.paired_ratio([r[field_a] for r in rounds[key_a]],
+                               [r[field_b] for r in rounds[key_b]])
+
+    trace_all = median("ours", "trace")
+    end_to_end_ms = median("end_to_end", "whole")
     return {
         "dataset": dataset, "size": size,
-        "stock_ms": stock_ms, "ours_ms": ours_ms, "ours_trace_ms": trace_all,
-        "ratio": ours_ms / stock_ms,
+        "stock_ms": median("stock", "whole"), "ours_ms": median("ours", "whole"),
+        "ours_trace_ms": trace_all,
+        "ratio": ratio("ours", "whole", "stock", "whole"),
         "samples_per_s": size * size / (trace_all / 1000.0),
-        "trace_1thread_ms": trace_1, "trace_2threads_ms": trace_2,
-        "scaling_2_over_1": trace_1 / trace_2,
-        "trace_portable_ms": trace_portable, "kernel": ours.GetCpuKernelTarget(),
+        "trace_1thread_ms": median("one", "trace"), "trace_2threads_ms": median("two", "trace"),
+        "scaling_2_over_1": ratio("one", "trace", "two", "trace"),
+        "trace_portable_ms": median("portable", "trace"),
+        "portable_speedup": ratio("portable", "trace", "ours", "trace"),
+        "kernel": ours.GetCpuKernelTarget(),
         "end_to_end_ms": end_to_end_ms, "end_to_end_fps": 1000.0 / end_to_end_ms,
-        "denoise_ms": denoise_median,
+        "denoise_ms": median("end_to_end", "denoise"),
     }
 
 
@@ -117,7 +138,8 @@ def main() -> int:
     for dataset, size in tqdm(jobs, desc="benchmark", unit="case"):
         rows.append(measure(dataset, size, args.repeats))
     print(f"\nmachine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
-          f"median of {args.repeats} renders after a warm-up; 1 spp, shading on, two-band preset")
+          f"median of {args.repeats} interleaved rounds after a warm-up (ratios: median of the "
+          f"rounds' ratios); 1 spp, shading on, two-band preset")
     header = ("dataset", "size", "stock ms", "ours ms", "ratio", "trace ms", "Msamples/s",
               "1 thr ms", "2 thr ms", "2/1 speed-up")
     print("| " + " | ".join(header) + " |")
@@ -135,7 +157,7 @@ def main() -> int:
     print("|" + "---|" * len(header))
     for r in rows:
         print(f"| {r['dataset']} | {r['size']}² | {r['ours_trace_ms']:.0f} | "
-              f"{r['trace_portable_ms']:.0f} | {r['trace_portable_ms'] / r['ours_trace_ms']:.2f} | "
+              f"{r['trace_portable_ms']:.0f} | {r['portable_speedup']:.2f} | "
               f"{r['denoise_ms']:.0f} | {r['end_to_end_ms']:.0f} | {r['end_to_end_fps']:.1f} |")
     if args.json:
         write_text(args.json, json.dumps(rows, indent=2))
