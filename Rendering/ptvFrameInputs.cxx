@@ -472,7 +472,7 @@ bool FrameInputs::UpdateTransfer(
     table.Size = kTableSize;
     table.ScalarMin = static_cast<float>(this->Range[0]);
     table.ScalarMax = static_cast<float>(this->Range[1]);
-    this->BrickDistance.resize(bricks);
+    this->BrickDistance.resize(8 * bricks);
     BuildOccupancy(
       table, this->BrickCounts, this->BrickRanges.data(), this->BrickDistance.data(), &iso);
   }

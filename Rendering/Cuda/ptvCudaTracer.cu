@@ -143,7 +143,7 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   {
     const int* b = params.Occupancy.Bricks;
     const std::size_t bricks = static_cast<std::size_t>(b[0]) * b[1] * b[2];
-    if (!upload(in.Bricks, params.Occupancy.Distance, bricks, "occupancy upload"))
+    if (!upload(in.Bricks, params.Occupancy.Distance, 8 * bricks, "occupancy upload"))
     {
       return false;
     }

@@ -73,7 +73,7 @@
  *     return 0 -- unbiased (E = T) and terminating.
  *  Empty-space skipping (every march, see March()): when the current sample's brick is empty
  *  (ptvOccupancy.h), k jumps to the first sample index whose t is past the empty cube of bricks
- *  around it; the skipped samples all have a = 0 and draw no random numbers, so results are
+ *  ahead of it (for the ray's direction octant); the skipped samples all have a = 0 and draw no random numbers, so results are
  *  bit-identical with and without skipping.
  *  Clipping and cropping (ptvClipping.h): points that are cut away classify as transparent, and
  *  every march first clips its [tStart, tEnd] to the convex kept part (fewer samples only).

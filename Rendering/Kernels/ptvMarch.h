@@ -64,9 +64,9 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
  * MarchSampleT(tStart, xi, step, k), k = 0, 1, ... with t_k < tEnd, in order, calling
  * visit(k, t, pIdx) (pIdx = oIdx + dIdx t) for each until it returns true (stop). With an occupancy
  * grid, samples in empty regions are skipped without a call: at a sample in an empty brick the
- * march jumps to the first sample at or after the exit of the empty cube around it
+ * march jumps to the first sample at or after the exit of the empty cube ahead of it
  * (RegionExitT; exact, FirstSampleAtOrAfter); at a sample in an occupied brick it visits every
- * sample up to about the exit of the occupied cube around it without further lookups (there a
+ * sample up to about the exit of the occupied cube ahead of it without further lookups (there a
  * sample more or less before the next lookup costs nothing, so SampleNear's estimate will do).
  * Skipped samples all have zero opacity and the visits are the same samples, so the visits
  * that matter are the same with and without skipping. invD = Reciprocal(dIdx) and invStep =
@@ -78,6 +78,7 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec
 {
   const int kLimit = MarchSampleLimit(tStart, tEnd, xi, invStep);
   const float invBrick = occ.Distance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
+  const int octant = DirectionOctant(dIdx);
   int k = 0;
   while (k < kLimit)
   {
@@ -92,7 +93,7 @@ PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec
     {
       int b[3];
       BrickOf(occ, pIdx, invBrick, b);
-      const int distance = DistanceAt(occ, b);
+      const int distance = DistanceAt(occ, b, octant);
       const float tExit = RegionExitT(occ, oIdx, dIdx, invD, t, b, CubeRadius(distance));
       if (distance > 0)
       {

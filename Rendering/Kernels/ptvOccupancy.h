@@ -1,7 +1,7 @@
 /**
  * @file ptvOccupancy.h
- * @brief Empty-space skipping: per-brick signed distances (to the nearest brick that may be
- *        visible, or to the nearest empty one), and the ray/region exit query.
+ * @brief Empty-space skipping: per-brick, per-direction-octant signed distances (to the nearest
+ *        brick ahead that may be visible, or to the nearest empty one), and the exit query.
  *
  * The grid is cut into bricks of BrickSize^3 voxels in index space; brick b covers positions
  * [b B, (b+1) B) on each axis, with the outermost bricks extended to infinity (positions outside
@@ -20,20 +20,24 @@
  * are transparent). Infinite voxel values make the widened range infinite, which only makes the
  * test more conservative. Gradient opacity only scales opacity down and is ignored here.
  *
- * Distance[bx + Bricks[0] * (by + Bricks[1] * bz)] is a signed chessboard (Chebyshev) distance
- * in bricks, so that one lookup settles a whole cube of bricks around the brick:
- *  - d >= 1 (empty brick): every brick within distance d - 1 is empty. A ray in empty brick b
- *    skips the whole cube [b - (d-1), b + (d-1)] in one step (RegionExitT), instead of one
- *    brick at a time. d is the distance to the nearest occupied brick, capped at 127.
- *  - d <= 0 (occupied brick): every brick within distance -d is occupied (-d is the distance to
- *    the nearest empty brick minus one, capped at 127). A ray in occupied brick b visits every
- *    sample up to the exit of the cube [b + d, b - d] without another lookup: inside dense
- *    material it looks up once per cube, not once per brick. Visiting samples is always exact
- *    (only skipping relies on the grid), so this part needs no conservative rounding.
+ * Distance[8 (bx + Bricks[0] * (by + Bricks[1] * bz)) + octant] is a one-sided, signed
+ * chessboard (Chebyshev) distance in bricks for rays whose direction lies in that octant
+ * (DirectionOctant: bit a set when component a is negative). A ray only moves forward along
+ * each axis, so what matters is the cube of bricks that starts at its brick and extends in the
+ * octant's direction, [b, b + r s] (s the octant's signs); one lookup settles that cube:
+ *  - d >= 1 (empty brick): every brick of the forward cube of d - 1 is empty (d is the
+ *    distance to the nearest occupied brick in the forward orthant, capped at 127). A ray in
+ *    empty brick b skips to the cube's exit (RegionExitT: its exit faces are the far faces,
+ *    b + (d-1) s, which is all a forward ray can reach) in one step, instead of one brick at a
+ *    time. Near a surface the ray is heading away from or along, the forward cube is far
+ *    larger than a symmetric one around the brick would be.
+ *  - d <= 0 (occupied brick): every brick of the forward cube of -d is occupied (-d is the
+ *    distance to the nearest empty brick in the forward orthant minus one, capped at 127). A
+ *    ray in occupied brick b visits every sample up to that cube's exit without another
+ *    lookup. Visiting samples is always exact (only skipping relies on the grid), so this part
+ *    needs no conservative rounding.
  * Cubes are clipped to the grid; edge bricks still extend to infinity, and bricks outside the
- * grid limit neither distance. Both come from the exact two-pass chamfer transform with the
- * 26-neighbourhood and unit weights (which computes the chessboard metric exactly), one from
- * the occupied bricks and one from the empty ones.
+ * grid limit neither distance. OctantDistances() computes them exactly, one pass per octant.
  */
 #ifndef ptvOccupancy_h
 #define ptvOccupancy_h
@@ -49,8 +53,8 @@ namespace ptv
 {
 struct OccupancyGrid
 {
-  /// Bricks[0]*Bricks[1]*Bricks[2] signed distances (>= 1 empty, <= 0 occupied; see the file
-  /// comment), or nullptr (no skipping)
+  /// 8 signed distances per brick, one per direction octant (>= 1 empty, <= 0 occupied; see
+  /// the file comment), or nullptr (no skipping)
   const int8_t* Distance;
   int BrickSize; ///< voxels per brick edge (>= 1)
   int Bricks[3]; ///< brick counts
@@ -79,22 +83,31 @@ PTV_HD PTV_INLINE void BrickOf(const OccupancyGrid& occ, Vec3 p, float invBrickS
   b[2] = BrickCoordinate(p.z, invBrickSize, occ.Bricks[2]);
 }
 
-/// Signed distance of brick b (>= 1: empty, <= 0: occupied).
-PTV_HD PTV_INLINE int DistanceAt(const OccupancyGrid& occ, const int b[3])
+/// Octant (0-7) of a direction: bit a set when component a is negative.
+PTV_HD PTV_INLINE int DirectionOctant(Vec3 d)
 {
-  return occ.Distance[b[0] + occ.Bricks[0] * (b[1] + occ.Bricks[1] * b[2])];
+  return (d.x < 0.f ? 1 : 0) | (d.y < 0.f ? 2 : 0) | (d.z < 0.f ? 4 : 0);
 }
 
-/// Half-width, in bricks, of the cube around a brick of signed distance d that a ray crosses
-/// in one step: d - 1 for an empty brick, -d for an occupied one.
+/// Signed distance of brick b for rays in direction octant @a octant (>= 1: empty, <= 0:
+/// occupied).
+PTV_HD PTV_INLINE int DistanceAt(const OccupancyGrid& occ, const int b[3], int octant)
+{
+  const int64_t brick = b[0] + static_cast<int64_t>(occ.Bricks[0]) * (b[1] + occ.Bricks[1] * b[2]);
+  return occ.Distance[8 * brick + octant];
+}
+
+/// Extent, in bricks beyond the ray's own, of the forward cube a ray crosses in one step from a
+/// brick of signed distance d: d - 1 for an empty brick, -d for an occupied one.
 PTV_HD PTV_INLINE int CubeRadius(int d)
 {
   return d > 0 ? d - 1 : -d;
 }
 
-/// Exit parameter on one axis of the slab of bricks [b - r, b + r] for a ray with origin o and
-/// direction component d (invD = 1 / d); kTMax if it has none in that direction (the ray is
-/// parallel, or the slab reaches the grid's edge brick).
+/// Exit parameter on one axis of the bricks b to b + r in the ray's direction of travel (the far
+/// face, which a forward cube [b, b + r s] and a symmetric one [b - r, b + r] share) for a ray
+/// with origin o and direction component d (invD = 1 / d); kTMax if it has none in that
+/// direction (the ray is parallel, or the bricks reach the grid's edge brick).
 PTV_HD PTV_INLINE float RegionAxisExit(
   int b, int r, float o, float d, float invD, int brickSize, int bricks)
 {
@@ -111,9 +124,9 @@ PTV_HD PTV_INLINE float RegionAxisExit(
 
 /**
  * Ray parameter where the index-space ray o + t d (invD: the component-wise reciprocals of d)
- * leaves the cube of bricks [b - r, b + r] (r = 0: brick b itself); always > t (the next float
- * above t when rounding puts the computed exit at or before t), kTMax when the ray never leaves
- * it. Rounding of the exit only moves it by ulps, far inside the one-voxel border that keeps
+ * leaves the cube of bricks from b to r bricks ahead on every axis (r = 0: brick b itself);
+ * always > t (the next float above t when rounding puts the computed exit at or before t),
+ * kTMax when the ray never leaves it. Rounding of the exit only moves it by ulps, far inside the one-voxel border that keeps
  * the occupancy conservative.
  */
 PTV_HD PTV_INLINE float RegionExitT(
@@ -178,48 +191,54 @@ inline void BuildBrickRanges(
 }
 
 /**
- * HOST ONLY. In place: turn flags (0 or not) over bricks[3] into each brick's chessboard
- * distance to the nearest flagged brick (0 for flagged ones, 255 when none is flagged or the
- * distance is larger) by a forward and a backward chamfer pass; bricks outside the grid are
- * not flagged.
+ * HOST ONLY. The one-sided signed distances of the file comment from occupancy flags (0 empty,
+ * else occupied) over bricks[3]: out[8 b + octant]. For each octant one pass visits the bricks
+ * so that the 7 forward neighbours (one brick further along one, two or three axes of the
+ * octant) come first: an empty brick's distance is 1 + the smallest of theirs (0 for an
+ * occupied one), an occupied brick's radius 1 + the smallest of theirs (-1 for an empty one);
+ * neighbours outside the grid limit neither (capped at 127).
  */
-inline void ChessboardDistance(const int bricks[3], uint8_t* d)
+inline void OctantDistances(const int bricks[3], const uint8_t* occupied, int8_t* out)
 {
-  const int nx = bricks[0], ny = bricks[1], nz = bricks[2];
-  auto at = [&](int x, int y, int z) -> uint8_t& { return d[x + nx * (y + ny * z)]; };
-  for (int z = 0; z < nz; ++z)
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x)
-        at(x, y, z) = at(x, y, z) ? 0 : 255;
-  for (int pass = 0; pass < 2; ++pass)
+  const int n[3] = { bricks[0], bricks[1], bricks[2] };
+  std::vector<int> value(static_cast<std::size_t>(n[0]) * n[1] * n[2]);
+  for (int octant = 0; octant < 8; ++octant)
   {
-    const int s = pass == 0 ? 1 : -1; // forward: neighbours already visited lie at -1 offsets
-    for (int zi = 0; zi < nz; ++zi)
+    const int s[3] = { octant & 1 ? -1 : 1, octant & 2 ? -1 : 1, octant & 4 ? -1 : 1 };
+    for (int zi = 0; zi < n[2]; ++zi)
     {
-      const int z = pass == 0 ? zi : nz - 1 - zi;
-      for (int yi = 0; yi < ny; ++yi)
+      const int z = s[2] > 0 ? n[2] - 1 - zi : zi;
+      for (int yi = 0; yi < n[1]; ++yi)
       {
-        const int y = pass == 0 ? yi : ny - 1 - yi;
-        for (int xi = 0; xi < nx; ++xi)
+        const int y = s[1] > 0 ? n[1] - 1 - yi : yi;
+        for (int xi = 0; xi < n[0]; ++xi)
         {
-          const int x = pass == 0 ? xi : nx - 1 - xi;
-          int best = at(x, y, z);
-          // The 13 neighbours that precede (x, y, z) in this pass's scan order.
-          for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx)
-              {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0)))
-                {
-                  continue;
-                }
-                const int qx = x + s * dx, qy = y + s * dy, qz = z + s * dz;
-                if (qx >= 0 && qx < nx && qy >= 0 && qy < ny && qz >= 0 && qz < nz)
-                {
-                  best = best < at(qx, qy, qz) + 1 ? best : at(qx, qy, qz) + 1;
-                }
-              }
-          at(x, y, z) = static_cast<uint8_t>(best < 255 ? best : 255);
+          const int x = s[0] > 0 ? n[0] - 1 - xi : xi;
+          const std::size_t b = static_cast<std::size_t>(x) + static_cast<std::size_t>(n[0]) *
+              (static_cast<std::size_t>(y) + static_cast<std::size_t>(n[1]) * z);
+          const bool full = occupied[b] != 0;
+          int best = 127; // no forward neighbour inside the grid: nothing limits it
+          for (int k = 1; k < 8; ++k)
+          {
+            const int qx = x + ((k & 1) ? s[0] : 0);
+            const int qy = y + ((k & 2) ? s[1] : 0);
+            const int qz = z + ((k & 4) ? s[2] : 0);
+            if (qx < 0 || qx >= n[0] || qy < 0 || qy >= n[1] || qz < 0 || qz >= n[2])
+            {
+              continue;
+            }
+            const std::size_t q = static_cast<std::size_t>(qx) + static_cast<std::size_t>(n[0]) *
+                (static_cast<std::size_t>(qy) + static_cast<std::size_t>(n[1]) * qz);
+            const bool qFull = occupied[q] != 0;
+            // Empty b: distance to the nearest forward occupied brick; occupied b: radius of the
+            // forward cube that stays occupied.
+            const int via = full ? (qFull ? value[q] + 1 : 0) : (qFull ? 1 : value[q] + 1);
+            best = via < best ? via : best;
+          }
+          best = best < 127 ? best : 127;
+          value[b] = best;
+          out[8 * b + static_cast<std::size_t>(octant)] =
+            static_cast<int8_t>(full ? -best : best);
         }
       }
     }
@@ -227,29 +246,7 @@ inline void ChessboardDistance(const int bricks[3], uint8_t* d)
 }
 
 /**
- * HOST ONLY. The signed distances of the file comment from occupancy flags (0 empty, else
- * occupied) over bricks[3]: @a out[b] >= 1 for empty bricks, <= 0 for occupied ones.
- */
-inline void SignedChessboardDistance(const int bricks[3], const uint8_t* occupied, int8_t* out)
-{
-  const std::size_t n = static_cast<std::size_t>(bricks[0]) * bricks[1] * bricks[2];
-  std::vector<uint8_t> toOccupied(occupied, occupied + n);
-  std::vector<uint8_t> toEmpty(n);
-  for (std::size_t b = 0; b < n; ++b)
-  {
-    toEmpty[b] = occupied[b] ? 0 : 1;
-  }
-  ChessboardDistance(bricks, toOccupied.data());
-  ChessboardDistance(bricks, toEmpty.data());
-  for (std::size_t b = 0; b < n; ++b)
-  {
-    const int d = occupied[b] ? -(toEmpty[b] - 1) : toOccupied[b];
-    out[b] = static_cast<int8_t>(ClampInt(d, -127, 127));
-  }
-}
-
-/**
- * HOST ONLY. Fill out[Bricks[0]*Bricks[1]*Bricks[2]] with each brick's signed distance from the
+ * HOST ONLY. Fill out[8 Bricks[0]*Bricks[1]*Bricks[2]] with each brick's signed distances from the
  * brick ranges of BuildBrickRanges(): a brick is occupied when it may hold visible samples (the
  * table's largest opacity over the brick's range is > 0; the table is piecewise linear, so that
  * largest value is at an entry inside the range or at an interpolated end point), provably
@@ -291,7 +288,7 @@ inline void BuildOccupancy(const TransferTable& tf, const int bricks[3], const f
       occupied[b] = visible ? 1 : 0;
     }
   }
-  SignedChessboardDistance(bricks, occupied.data(), out);
+  OctantDistances(bricks, occupied.data(), out);
 }
 
 /// Occupancy view over a distance array built by BuildOccupancy() for g and brickSize.
