@@ -35,9 +35,10 @@ public:
 
   /**
    * Add frame @a count (1 = first: restarts) of radiance @a frame (3 floats per pixel) for a
-   * @a width x @a height image.
+   * @a width x @a height image, on @a threads threads (<= 0: every core; the same result on
+   * any count).
    */
-  void AddFrame(const float* frame, int width, int height, int count);
+  void AddFrame(const float* frame, int width, int height, int count, int threads = 0);
 
   /**
    * The image to show from the mean of the @a count frames added and @a denoised (nullptr:

@@ -264,7 +264,8 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   const int width = this->Frame.GetWidth();
   const int height = this->Frame.GetHeight();
   this->Accumulated.Resize(width, height);
-  this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames);
+  this->Converging.AddFrame(
+    this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames, request.Threads);
   if (this->ViewMoved)
   {
     const double reprojectStart = Now();
