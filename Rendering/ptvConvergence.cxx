@@ -123,31 +123,15 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
 void Convergence::AddFrame(const float* frame, int width, int height, int count, int threads)
 {
   const std::size_t n = 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  // Element-wise, in parallel blocks (the same bits on any thread count): at 1024² these are
-  // three 12 MB arrays per frame, which would otherwise run on one core inside the trace time.
-  constexpr std::size_t kGrain = 1 << 14;
-  if (count <= 1 || width != this->Width || height != this->Height)
+  const bool first = count <= 1 || width != this->Width || height != this->Height;
+  if (first)
   {
     this->Width = width;
     this->Height = height;
-    this->SecondMoment.resize(n);
     this->Mean.resize(n);
     this->OddMean.resize(n);
-    float* mean = this->Mean.data();
-    float* odd = this->OddMean.data();
-    float* second = this->SecondMoment.data();
-    ParallelFor(threads, std::size_t(0), n, kGrain,
-      [&](std::size_t i0, std::size_t i1)
-      {
-        for (std::size_t i = i0; i < i1; ++i)
-        {
-          mean[i] = frame[i];
-          odd[i] = frame[i];
-          second[i] = frame[i] * frame[i];
-        }
-      });
-    this->Count = 1;
-    return;
+    this->SecondMoment.resize(n);
+    count = 1;
   }
   const float w = 1.0f / static_cast<float>(count);
   const bool odd = count % 2 == 1;
@@ -155,16 +139,25 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
   float* mean = this->Mean.data();
   float* oddMean = this->OddMean.data();
   float* second = this->SecondMoment.data();
-  ParallelFor(threads, std::size_t(0), n, kGrain,
+  // Element-wise, in parallel blocks (the same bits on any thread count): at 1024² these are
+  // three 12 MB arrays per frame, which would otherwise run on one core inside the trace time.
+  ParallelFor(threads, std::size_t(0), n, std::size_t(1) << 14,
     [&](std::size_t i0, std::size_t i1)
     {
       for (std::size_t i = i0; i < i1; ++i)
       {
-        mean[i] += (frame[i] - mean[i]) * w; // as PassBuffers::Accumulate: same bits
-        second[i] += (frame[i] * frame[i] - second[i]) * w;
+        const float f = frame[i];
+        if (first)
+        {
+          mean[i] = oddMean[i] = f;
+          second[i] = f * f;
+          continue;
+        }
+        mean[i] += (f - mean[i]) * w; // as PassBuffers::Accumulate: same bits
+        second[i] += (f * f - second[i]) * w;
         if (odd)
         {
-          oddMean[i] += (frame[i] - oddMean[i]) * wOdd;
+          oddMean[i] += (f - oddMean[i]) * wOdd;
         }
       }
     });

@@ -41,7 +41,7 @@ float ShadowStepScale()
       return s;
     }
   }
-  return 2.0f;
+  return kShadowStepScale;
 }
 
 /// Where transmittance rays start Russian roulette: kRouletteThreshold, or for studies

@@ -16,6 +16,8 @@
 namespace ptv
 {
 constexpr float kRouletteThreshold = 0.05f;
+/// Shadow and environment steps in camera steps (chosen by Testing/Benchmarks/shadow_step.py).
+constexpr float kShadowStepScale = 2.f;
 
 /// Colour from dependent colour data at an index-space point (see VolumeGrid::Colors), or
 /// @a fallback (the transfer function's colour) without such data.
@@ -162,10 +164,11 @@ PTV_HD PTV_INLINE float StepOverUnit(const TraceParams& p, float step)
   return p.UnitDistance > 0.f ? step / p.UnitDistance : 1.f;
 }
 
-/// World step of shadow and environment rays (StepWorld * ShadowStepScale, default scale 2).
+/// World step of shadow and environment rays (StepWorld * ShadowStepScale; kShadowStepScale
+/// when that is not positive).
 PTV_HD PTV_INLINE float ShadowStep(const TraceParams& p)
 {
-  return p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : 2.f);
+  return p.StepWorld * (p.ShadowStepScale > 0.f ? p.ShadowStepScale : kShadowStepScale);
 }
 
 /// The step of shadow and environment rays and the quotients each of them needs: computed once
