@@ -218,6 +218,25 @@ def test_config_and_macs_with_stride() -> None:
     assert count_parameters(net) == 10 * 9 * 16 + 16 + 16 * 9 * 8 + 8
 
 
+def test_second_kernel() -> None:
+    """kernel2: the second conv's own size (padding k2 // 2: same-size output), counted in the
+    MACs and parameters, kept in config() only when it differs (older configs compare equal)."""
+    net = GuideNet(10, hidden=16, kernel=5, stride=2, out_channels=8, kernel2=3)
+    assert net.core[0].kernel_size == (5, 5) and net.core[2].kernel_size == (3, 3)
+    assert net.config()["kernel2"] == 3
+    assert GuideNet(**net.config()).config() == net.config()
+    assert "kernel=5/3" in repr(net)
+    assert macs_per_pixel(net) == (25 * 10 * 16 + 9 * 16 * 8) / 4
+    assert count_parameters(net) == 25 * 10 * 16 + 16 + 9 * 16 * 8 + 8
+    same = GuideNet(10, hidden=16, kernel=3, kernel2=3)
+    assert "kernel2" not in same.config() and same.kernel2 == 3
+    with torch.no_grad():
+        assert net(torch.rand(1, 10, 9, 14)).shape == (1, 8, 9, 14)
+    for kw in ({"kernel2": 4}, {"kernel2": 0}, {"hidden": 0, "kernel2": 3}):
+        with pytest.raises(ValueError):
+            GuideNet(10, **kw)
+
+
 # --- features ------------------------------------------------------------------------------------
 def synthetic_passes(h: int, w: int, seed: int, far: float = 10.0):
     """Passes like the mapper's: about a third of the pixels miss (depth = far, zeros)."""
@@ -439,6 +458,7 @@ NETS = {
     "paper10": (F.PAPER_10, {}),
     "volume14_h8": (F.VOLUME_FEATURES, {"hidden": 8}),
     "color3_single_conv_k3": (F.COLOR_ONLY, {"hidden": 0, "kernel": 3}),
+    "paper10_h16_k5k3": (F.PAPER_10, {"hidden": 16, "kernel2": 3}),
 }
 PROVIDERS = ("CPUExecutionProvider", "CUDAExecutionProvider")
 

@@ -216,6 +216,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--hidden", type=int, default=20,
                         help="hidden channels; 0 = a single conv (default: 20)")
     parser.add_argument("--kernel", type=int, default=5, help="odd kernel size (default: 5)")
+    parser.add_argument("--kernel2", type=int, default=0,
+                        help="odd kernel size of the second conv (default: 0 = --kernel)")
     parser.add_argument("--levels", type=parse_levels, default=DEFAULT_LEVELS,
                         help="ss:sr per level (default: 4:4,8:8,16:16)")
     parser.add_argument("--stride", type=int, default=1, choices=STRIDES,
@@ -231,7 +233,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     torch.manual_seed(args.seed)
     model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
                      levels=len(args.levels), stride=args.stride,
-                     out_channels=args.out_channels or None)
+                     out_channels=args.out_channels or None, kernel2=args.kernel2 or None)
     path = export(model, args.output, channels, args.levels,
                   extra_metadata={"ptv.weights": f"random seed {args.seed}"})
     print(f"wrote {path} ({path.stat().st_size} bytes): {len(channels)} channels, "

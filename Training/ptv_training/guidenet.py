@@ -3,11 +3,11 @@
 A tiny fully convolutional network maps per-pixel features (see :mod:`ptv_training.features`)
 to the grid's guides and blend weights. ``self.core`` (what is exported to ONNX) is::
 
-    conv k x k, in -> hidden, LeakyReLU(0.2), conv k x k, hidden -> out_channels, sigmoid
+    conv k x k, in -> hidden, LeakyReLU(0.2), conv k2 x k2, hidden -> out_channels, sigmoid
 
-with zero padding k // 2, so its output has its input's height and width (any size, odd sizes
-included). ``hidden=0`` gives the smallest network, a single k x k conv ``in -> out_channels``
-plus sigmoid (for ablations).
+with zero padding k // 2 (k2 // 2), so its output has its input's height and width (any size,
+odd sizes included); ``kernel2`` defaults to ``kernel``. ``hidden=0`` gives the smallest
+network, a single k x k conv ``in -> out_channels`` plus sigmoid (for ablations).
 
 Output channels: ``levels`` (L) guides in [0, 1] (the grid multiplies them by 255 to get range
 coordinates), then ``L - 1`` blend weights in [0, 1]; the last level's weight is
@@ -51,7 +51,8 @@ class GuideNet(nn.Module):
     """
 
     def __init__(self, in_channels: int, hidden: int = 20, kernel: int = 5, levels: int = 3,
-                 stride: int = 1, out_channels: Optional[int] = None) -> None:
+                 stride: int = 1, out_channels: Optional[int] = None,
+                 kernel2: Optional[int] = None) -> None:
         super().__init__()
         if in_channels < 1:
             raise ValueError(f"in_channels must be >= 1, got {in_channels}")
@@ -59,6 +60,12 @@ class GuideNet(nn.Module):
             raise ValueError(f"hidden must be >= 0 (0 = single conv), got {hidden}")
         if kernel < 1 or kernel % 2 == 0:
             raise ValueError(f"kernel must be odd (same-size output), got {kernel}")
+        if kernel2 is None:
+            kernel2 = kernel
+        if kernel2 < 1 or kernel2 % 2 == 0:
+            raise ValueError(f"kernel2 must be odd (same-size output), got {kernel2}")
+        if hidden == 0 and kernel2 != kernel:
+            raise ValueError("kernel2 needs a hidden layer (hidden > 0)")
         if levels < 1:
             raise ValueError(f"levels must be >= 1, got {levels}")
         if stride not in STRIDES:
@@ -72,13 +79,14 @@ class GuideNet(nn.Module):
         self.in_channels = in_channels
         self.hidden = hidden
         self.kernel = kernel
+        self.kernel2 = kernel2
         self.levels = levels
         self.stride = stride
         self.out_channels = out_channels
         pad = kernel // 2
         if hidden > 0:
             layers = [nn.Conv2d(in_channels, hidden, kernel, padding=pad), nn.LeakyReLU(0.2),
-                      nn.Conv2d(hidden, out_channels, kernel, padding=pad)]
+                      nn.Conv2d(hidden, out_channels, kernel2, padding=kernel2 // 2)]
         else:
             layers = [nn.Conv2d(in_channels, out_channels, kernel, padding=pad)]
         self.core = nn.Sequential(*layers, nn.Sigmoid())
@@ -100,13 +108,19 @@ class GuideNet(nn.Module):
         return output[:, :self.levels], output[:, self.levels:2 * self.levels - 1]
 
     def config(self) -> Dict[str, int]:
-        """Constructor arguments (store them next to a checkpoint's state_dict)."""
-        return {"in_channels": self.in_channels, "hidden": self.hidden,
-                "kernel": self.kernel, "levels": self.levels, "stride": self.stride,
-                "out_channels": self.out_channels}
+        """Constructor arguments (store them next to a checkpoint's state_dict); ``kernel2``
+        only when it differs from ``kernel``, so older checkpoints' configs compare equal."""
+        config = {"in_channels": self.in_channels, "hidden": self.hidden,
+                  "kernel": self.kernel, "levels": self.levels, "stride": self.stride,
+                  "out_channels": self.out_channels}
+        if self.kernel2 != self.kernel:
+            config["kernel2"] = self.kernel2
+        return config
 
     def extra_repr(self) -> str:
-        return (f"in={self.in_channels}, hidden={self.hidden}, kernel={self.kernel}, "
+        kernels = (f"{self.kernel}" if self.kernel2 == self.kernel
+                   else f"{self.kernel}/{self.kernel2}")
+        return (f"in={self.in_channels}, hidden={self.hidden}, kernel={kernels}, "
                 f"levels={self.levels}, stride={self.stride}, out={self.out_channels}, "
                 f"params={count_parameters(self)}")
 
@@ -127,10 +141,11 @@ def count_parameters(model: nn.Module) -> int:
 def macs_per_pixel(model: GuideNet) -> float:
     """Multiply-accumulates per full-resolution pixel (bias, activations, pooling and
     upsampling not counted): the core's MACs per reduced pixel / stride^2; an int when exact."""
-    k2 = model.kernel * model.kernel
+    k1 = model.kernel * model.kernel
     if model.hidden > 0:
-        macs = k2 * (model.in_channels * model.hidden + model.hidden * model.out_channels)
+        k2 = model.kernel2 * model.kernel2
+        macs = k1 * model.in_channels * model.hidden + k2 * model.hidden * model.out_channels
     else:
-        macs = k2 * model.in_channels * model.out_channels
+        macs = k1 * model.in_channels * model.out_channels
     s2 = model.stride * model.stride
     return macs // s2 if macs % s2 == 0 else macs / s2

@@ -183,6 +183,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--width", type=int, default=16, help="U-Net base width (default 16)")
     p.add_argument("--hidden", type=int, default=16, help="GuideNet hidden channels (default 16)")
     p.add_argument("--kernel", type=int, default=5, help="GuideNet kernel size (default 5)")
+    p.add_argument("--kernel2", type=int, default=0,
+                   help="kernel size of GuideNet's second conv (default 0 = --kernel)")
     p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
                    help="grid levels ss:sr (default 4:4,8:8,16:16)")
     p.add_argument("--stride", type=int, choices=STRIDES, default=1,
@@ -264,7 +266,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     else:
         model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
                          levels=len(args.levels), stride=args.stride,
-                         out_channels=args.out_channels or None)
+                         out_channels=args.out_channels or None,
+                         kernel2=args.kernel2 or None)
     optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
         optimizer, mode="max", factor=0.5, patience=max(args.lr_patience, 1), threshold=0.01,
