@@ -4,7 +4,8 @@ level count, with OIDN RT fast and balanced on the same passes as references.
 
 For each dataset the benchmark frame's 1-spp passes and reference come from the cache shared with
 benchmark_denoiser.py (<cache>/bench, rendered on first use). Every model given with --models
-(default: the shipped model and every exported run of the "cpu" study, Training/results/cpu.md)
+(default: the shipped model and every exported run of the "v2-cpu" study,
+Training/results/v2-cpu.md, whose runs share the second data set and step budget)
 runs through vtkPTVDenoiser (C++, ONNX Runtime, 2 threads) at each level count 1..L; times are
 medians of --repeats after a warm-up, all in one run (docs/measuring.md). Writes
 <out>/denoiser_pareto.{csv,json,png}: the chart has one panel per dataset and one for the mean
@@ -38,8 +39,8 @@ def parse_args() -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", nargs="*", type=Path, default=None,
                         help="GuideNet .onnx files (default: shipped + "
-                             "<runs>/study_cpu_*/model.onnx + the original architecture's "
-                             "run, study_ablation_paper_h20_L3)")
+                             "<runs>/study_v2-cpu_*/model.onnx + the shipped architecture's "
+                             "study run, study_v2-features_paper10)")
     parser.add_argument("--runs", type=Path, default=STUDY_RUNS,
                         help=f"study runs searched by default (default {STUDY_RUNS})")
     parser.add_argument("--datasets", nargs="+", default=["head", "stent", "concrete"])
@@ -58,11 +59,12 @@ def model_list(args: argparse.Namespace) -> List[Tuple[str, Path]]:
     """(name, path) of every model to chart."""
     paths = args.models
     if paths is None:
-        # the cpu study's runs, and the original architecture (the ablation's run it shares)
-        paths = [SHIPPED] + sorted(args.runs.glob("study_cpu_*/model.onnx")) + sorted(
-            args.runs.glob("study_ablation_paper_h20_L3/model.onnx"))
+        # the v2-cpu study's runs, and the shipped architecture's run (v2-features' it shares)
+        paths = [SHIPPED] + sorted(args.runs.glob("study_v2-features_paper10/model.onnx")) + \
+            sorted(args.runs.glob("study_v2-cpu_*/model.onnx"))
     return [("shipped" if p.resolve() == SHIPPED.resolve()
-             else p.parent.name.removeprefix("study_cpu_").removeprefix("study_ablation_"), p)
+             else "h16_k5_s2" if p.parent.name == "study_v2-features_paper10"
+             else p.parent.name.removeprefix("study_v2-cpu_"), p)
             for p in paths]
 
 

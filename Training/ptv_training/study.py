@@ -12,6 +12,7 @@ only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reus
     python Training/ptv_training/study.py cpu --steps 800
     python Training/ptv_training/study.py v2-features --steps 1500 --jobs 2
     python Training/ptv_training/study.py v2-loo --steps 1500 --jobs 2
+    python Training/ptv_training/study.py v2-cpu --steps 600 --jobs 2
 
 ``ablation``, ``loo``, ``unet`` and ``cpu`` ran on the first data set (``.cache/training/v1``:
 head, stent and concrete with jittered presets, 128², 1024-spp references; L1 loss), which is
@@ -19,7 +20,8 @@ their default data. The ``v2-*`` studies run on the second (``.cache/training/v2
 of ``Data/datasets.json``, random transfer functions, 256², 64-spp Noise2Noise targets; relative
 MSE), always with the shipped architecture (hidden 16, 5 x 5, stride 2, 8 outputs, PAPER_10, 3
 levels): ``v2-features`` asks which auxiliary features and which loss pay, ``v2-loo`` trains once
-without each volume and tests on its held-out views.
+without each volume and tests on its held-out views. ``v2-cpu`` is ``cpu`` again on the second data
+set: the shipped network against a 3 x 3 second conv, 3 x 3 throughout and 1/4 resolution.
 
 ``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
 denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
@@ -75,7 +77,8 @@ BASE = ["--channels", "VOLUME_FEATURES", "--hidden", "8", "--kernel", "5", "--no
 SHIP = ["--channels", "PAPER_10", "--hidden", "20", "--kernel", "5", "--no-demodulate"]
 # Runs shared between studies (trained once): experiment name -> run folder.
 SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3",
-          "all": "study_v2-features_paper10"}  # v2-loo's in-domain run is v2-features' paper10
+          "all": "study_v2-features_paper10",  # v2-loo's in-domain run is v2-features' paper10
+          "h16_k5_s2": "study_v2-features_paper10"}  # and v2-cpu's shipped architecture
 
 
 def cpu_candidate(hidden: int, kernel: int, stride: int, out_channels: int,
@@ -133,6 +136,25 @@ V2_SHIP = ["--channels", "PAPER_10", "--hidden", "16", "--kernel", "5", "--strid
            "--out-channels", "8", "--no-demodulate"]
 
 
+def v2_cpu_candidate(hidden: int, kernel: int, kernel2: int, stride: int) -> Experiment:
+    """A ``v2-cpu`` study run: the shipped flags (PAPER_10, 8 outputs, 3 levels) with this hidden
+    width, first and second kernel and stride."""
+    kernels = f"k{kernel}" if kernel2 == kernel else f"k{kernel}k{kernel2}"
+    flags = with_flag(with_flag(with_flag(V2_SHIP, "--hidden", hidden), "--kernel", kernel),
+                      "--stride", stride)
+    if kernel2 != kernel:
+        flags += ["--kernel2", str(kernel2)]
+    return Experiment(f"h{hidden}_{kernels}_s{stride}",
+                      f"hidden {hidden}, {kernel}x{kernel} then {kernel2}x{kernel2}, "
+                      f"stride {stride}", flags)
+
+
+def with_flag(flags: List[str], name: str, value: Any) -> List[str]:
+    out = list(flags)
+    out[out.index(name) + 1] = str(value)
+    return out
+
+
 def with_channels(flags: List[str], channels: str) -> List[str]:
     out = list(flags)
     out[out.index("--channels") + 1] = channels
@@ -147,6 +169,13 @@ STUDIES["v2-features"] = [
     Experiment("paper10_l1", "PAPER_10, L1 on tone-mapped images instead of relative MSE",
                V2_SHIP + ["--loss", "l1"]),
 ]
+
+
+# ONNX Runtime's NCHWc convolution pads the second conv's 8 outputs to 16 on AVX-512, which made it
+# the costlier of the two at 5 x 5 (ORT profile: 10.7 of 18.6 ms at 1024²); a 3 x 3 second conv, 3 x 3
+# throughout, and the network at 1/4 resolution are the cheaper candidates (first is the shipped one).
+V2_CPU_CANDIDATES = ((16, 5, 5, 2), (16, 5, 3, 2), (16, 3, 3, 2), (16, 5, 3, 4))
+STUDIES["v2-cpu"] = [v2_cpu_candidate(*c) for c in V2_CPU_CANDIDATES]
 
 
 def v2_loo(datasets: Sequence[str]) -> List[Experiment]:
@@ -306,7 +335,7 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
     cheapest = (f"- Best mean: `{best['name']}` {best['psnr_1spp_mean']:.2f} dB. Cheapest within "
                 f"{KEEP_WITHIN_DB} dB of it: **`{keep['name']}`** ({keep['macs_per_pixel']} "
                 f"MACs/px, {keep['levels']}).")
-    if study == "cpu":
+    if study in ("cpu", "v2-cpu"):
         ref = results[0]  # today's architecture
         lines = [cheapest] + [
             f"- `{r['name']}`: {r['macs_per_pixel'] / ref['macs_per_pixel']:.3f}x the MACs of "
@@ -384,7 +413,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         timings = time_cpp([ensure_onnx(o) for o in outs], args.data, args.repeats)
         for r, t in zip(results, timings):
             r.update(t)
-    if args.study == "cpu":  # the runs' models for Testing/Benchmarks/pareto_denoiser.py
+    if args.study in ("cpu", "v2-cpu"):  # the models for Testing/Benchmarks/pareto_denoiser.py
         for o in outs:
             ensure_onnx(o)
     command = "python Training/ptv_training/study.py " + " ".join(
