@@ -111,13 +111,14 @@ void BilateralGridCpu::Prepare(
     this->ScratchColumns = scratchColumns;
     this->ScratchFloats = scratchFloats;
     this->Scratch.clear();
-    this->Fit(this->Scratch, scratchFloats * blocks);
+    this->Fit(this->Scratch, 2 * scratchFloats * blocks);
     this->ScratchRanges.clear();
-    this->Fit(this->ScratchRanges, 2 * scratchColumns * blocks);
-    for (std::size_t b = 0; b < static_cast<std::size_t>(blocks); ++b)
+    this->Fit(this->ScratchRanges, 4 * scratchColumns * blocks);
+    // KMin: nothing touched; then KMax. Per block: row 0's KMin, KMax, row 1's KMin, KMax.
+    for (std::size_t r = 0; r < 2 * static_cast<std::size_t>(blocks); ++r)
     {
-      int* ranges = this->ScratchRanges.data() + 2 * scratchColumns * b;
-      std::fill(ranges, ranges + scratchColumns, INT_MAX); // KMin: nothing touched
+      int* ranges = this->ScratchRanges.data() + 2 * scratchColumns * r;
+      std::fill(ranges, ranges + scratchColumns, INT_MAX);
       std::fill(ranges + scratchColumns, ranges + 2 * scratchColumns, -1);
     }
   }
@@ -186,9 +187,12 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
       for (vtkIdType b = blockBegin; b < blockEnd; ++b)
       {
         SplatScratch scratch;
-        scratch.Cells = this->Scratch.data() + this->ScratchFloats * b;
-        scratch.KMin = this->ScratchRanges.data() + 2 * this->ScratchColumns * b;
-        scratch.KMax = scratch.KMin + this->ScratchColumns;
+        for (int r = 0; r < 2; ++r)
+        {
+          scratch.Cells[r] = this->Scratch.data() + this->ScratchFloats * (2 * b + r);
+          scratch.KMin[r] = this->ScratchRanges.data() + 2 * this->ScratchColumns * (2 * b + r);
+          scratch.KMax[r] = scratch.KMin[r] + this->ScratchColumns;
+        }
         for (int l = 0; l < levels; ++l)
         {
           const int rows = grid[l].Geometry.Height;

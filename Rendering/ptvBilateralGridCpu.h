@@ -65,8 +65,8 @@ private:
   std::vector<int> ColumnIndex[kMaxGridLevels];
   std::vector<float> RowTents[kMaxGridLevels];  // Ty0 then Ty1 (2 H)
   std::vector<float> ColumnTents[kMaxGridLevels]; // Tx0 then Tx1 (2 W)
-  std::vector<float> Scratch;       // per block: the largest level's Columns * Bins * 4, zero
-  std::vector<int> ScratchRanges;   // per block: KMin, then KMax of each column
+  std::vector<float> Scratch;       // per block: 2 rows of the largest level's Columns * Bins * 4
+  std::vector<int> ScratchRanges;   // per block and row: KMin, then KMax of each column
   PushGrid Levels[kMaxGridLevels];
   int Blocks = 0;
   std::size_t ScratchColumns = 0;

@@ -3,7 +3,10 @@
 // time: one binary for every x86-64, AVX-512/AVX2 with FMA where the CPU has them. Cells are
 // 4 floats (r, g, b, w), so one 128-bit multiply-add updates a cell (the baseline target, HWY_SCALAR
 // with Debian's GCC 12, loops over the 4 lanes); the per-pixel index and tent arithmetic is the
-// scalar code of Kernels/ptvBilateralGrid.h.
+// scalar code of Kernels/ptvBilateralGrid.h. On AVX2 / AVX-512 the slice keeps each level's
+// (r, g, b, w) in one vector through the blend and re-modulation, with the blend's multiply-adds
+// in the order GCC contracted Blend() into before: the same bits at 1 and 2 levels; at 3 levels
+// (the fixed guide's default) 2 % of the pixels differ by 1-2 ulp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "ptvBilateralGridRows.cxx"
 #include "hwy/foreach_target.h" // must come before highway.h
@@ -69,138 +72,320 @@ int64_t KernelTarget()
   return HWY_TARGET;
 }
 
+/// One grid row's scratch as a pixel row pushes into it.
+struct RowTarget
+{
+  float* Cells;
+  int* KMin;
+  int* KMax;
+  float Ty; ///< the pixel row's tent weight for this grid row
+};
+
+/// Marks bins k0, k0 + 1 of columns c0, c0 + 1 touched.
+HWY_INLINE void Touch(const RowTarget& t, int c0, int k0)
+{
+  for (int c = c0; c <= c0 + 1; ++c)
+  {
+    t.KMin[c] = k0 < t.KMin[c] ? k0 : t.KMin[c];
+    t.KMax[c] = k0 + 1 > t.KMax[c] ? k0 + 1 : t.KMax[c];
+  }
+}
+
+/**
+ * Pushes pixel row @a y into grid row j0 (@a upper, weight Ty0) and / or j0 + 1 (@a lower, Ty1),
+ * reading each pixel once. Every push is w * value with w = (tx * ty) * tz, as the definition.
+ */
+template <bool kUpper, bool kLower>
+HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_t columnFloats,
+  const float* HWY_RESTRICT limit, int y, const RowTarget& upper, const RowTarget& lower)
+{
+  const std::size_t row = static_cast<std::size_t>(y) * in.Width;
+  const float* demod = in.Demodulated4 + 4 * row;
+  const std::size_t stride = static_cast<std::size_t>(in.GuideStride);
+  const float* guide = in.Guides + row * stride + in.GuideOffset;
+  const int rangeStep = g.Geometry.RangeStep;
+#if PTV_GRID_WIDE
+  // Consecutive pixels that push into the same cell pairs (same i0 and k0: up to ss of them
+  // along x where the guide is smooth) are summed in registers and added once, which breaks the
+  // store-to-load chain through memory.
+  const D8 d8;
+  const DH dh;
+  int runColumn = -1;
+  int runBin = 0;
+  auto up0 = hn::Zero(d8);
+  auto up1 = hn::Zero(d8);
+  auto lo0 = hn::Zero(d8);
+  auto lo1 = hn::Zero(d8);
+  const auto add = [&](const RowTarget& t, hn::Vec<D8> acc0, hn::Vec<D8> acc1)
+  {
+    float* cell = t.Cells + static_cast<std::size_t>(runColumn) * columnFloats + 4 * runBin;
+    hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc0), d8, cell);
+    cell += columnFloats;
+    hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc1), d8, cell);
+    Touch(t, runColumn, runBin);
+  };
+  const auto flush = [&]()
+  {
+    if (runColumn < 0)
+    {
+      return;
+    }
+    if (kUpper)
+    {
+      add(upper, up0, up1);
+    }
+    if (kLower)
+    {
+      add(lower, lo0, lo1);
+    }
+  };
+  for (int x = 0; x < in.Width; ++x)
+  {
+    const float z = GuideToGrid(guide[x * stride], rangeStep);
+    const int k0 = FloorToInt(z);
+    const int c0 = g.I0[x] + 1;
+    if (c0 != runColumn || k0 != runBin)
+    {
+      flush();
+      runColumn = c0;
+      runBin = k0;
+      up0 = hn::Zero(d8);
+      up1 = hn::Zero(d8);
+      lo0 = hn::Zero(d8);
+      lo1 = hn::Zero(d8);
+    }
+    const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
+    const auto v4 = hn::Min(hn::LoadU(dh, demod + 4 * x), hn::Load(dh, limit));
+    const auto value = hn::Combine(d8, v4, v4);
+    if (kUpper)
+    {
+      up0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * upper.Ty), tz), value, up0);
+      up1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * upper.Ty), tz), value, up1);
+    }
+    if (kLower)
+    {
+      lo0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * lower.Ty), tz), value, lo0);
+      lo1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * lower.Ty), tz), value, lo1);
+    }
+  }
+  flush();
+#else
+  const D4 d;
+  const auto push = [&](const RowTarget& t, int c0, int k0, float tx0, float tx1, float tz0,
+                      float tz1, const float* value)
+  {
+    float* cell = t.Cells + static_cast<std::size_t>(c0) * columnFloats + 4 * k0;
+    const float w0 = tx0 * t.Ty;
+    const float w1 = tx1 * t.Ty;
+    Push(cell, w0 * tz0, value);
+    Push(cell + 4, w0 * tz1, value);
+    Push(cell + columnFloats, w1 * tz0, value);
+    Push(cell + columnFloats + 4, w1 * tz1, value);
+    Touch(t, c0, k0);
+  };
+  for (int x = 0; x < in.Width; ++x)
+  {
+    const float z = GuideToGrid(guide[x * stride], rangeStep);
+    const int k0 = FloorToInt(z);
+    const float tz0 = Tent(z - static_cast<float>(k0));
+    const float tz1 = Tent(z - static_cast<float>(k0 + 1));
+    const int c0 = g.I0[x] + 1;
+    HWY_ALIGN float value[4];
+    ForCell([&](std::size_t o)
+      { hn::Store(hn::Min(hn::LoadU(d, demod + 4 * x + o), hn::Load(d, limit + o)), d,
+          value + o); });
+    if (kUpper)
+    {
+      push(upper, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value);
+    }
+    if (kLower)
+    {
+      push(lower, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value);
+    }
+  }
+#endif
+}
+
 void SplatGridRowsKernel(
   const SplatInput& in, PushGrid& g, SplatScratch& s, int jBegin, int jEnd)
 {
   const D4 d;
   const GridLevel& geo = g.Geometry;
-  const int bins = g.Bins;
-  const std::size_t columnFloats = static_cast<std::size_t>(bins) * 4;
+  const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
   const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * columnFloats;
   const float inf = std::numeric_limits<float>::infinity();
   HWY_ALIGN const float limit[4] = { in.Limit, in.Limit, in.Limit, inf }; // weight lane: never
-  const std::size_t stride = static_cast<std::size_t>(in.GuideStride);
-  for (int j = jBegin; j < jEnd; ++j)
+  const auto target = [&](int j, float ty)
+  { return RowTarget{ s.Cells[j & 1], s.KMin[j & 1], s.KMax[j & 1], ty }; };
+  // The pixel rows with J0 = j0 push into grid rows j0 and j0 + 1 (J0 never decreases with y).
+  int y = static_cast<int>(std::lower_bound(g.J0, g.J0 + in.Height, jBegin - 1) - g.J0);
+  for (int j0 = jBegin - 1; j0 < jEnd; ++j0)
   {
-    int y0, y1;
-    SplatSupport(j, geo.SpatialStep, in.Height, y0, y1);
-    for (int y = y0; y <= y1; ++y)
+    const bool ownUpper = j0 >= jBegin;
+    const bool ownLower = j0 + 1 < jEnd;
+    for (; y < in.Height && g.J0[y] == j0; ++y)
     {
-      // Tent(v_y - j): the row table holds it for j0 = J0[y] and j0 + 1.
-      const float ty = g.J0[y] == j ? g.Ty0[y] : (g.J0[y] + 1 == j ? g.Ty1[y] : 0.f);
-      if (!(ty > 0.f))
+      const RowTarget upper = target(j0, g.Ty0[y]);
+      const RowTarget lower = target(j0 + 1, g.Ty1[y]);
+      const bool u = ownUpper && upper.Ty > 0.f;
+      const bool l = ownLower && lower.Ty > 0.f;
+      if (u && l)
       {
-        continue;
+        PushPixelRow<true, true>(in, g, columnFloats, limit, y, upper, lower);
       }
-      const std::size_t row = static_cast<std::size_t>(y) * in.Width;
-      const float* demod = in.Demodulated4 + 4 * row;
-      const float* guide = in.Guides + row * stride + in.GuideOffset;
-#if PTV_GRID_WIDE
-      // Consecutive pixels that push into the same two cell pairs (same i0 and k0: up to ss of
-      // them along x where the guide is smooth) are summed in registers and added once, which
-      // breaks the store-to-load chain through memory.
-      const D8 d8;
-      const DH dh;
-      int runColumn = -1;
-      int runBin = 0;
-      auto acc0 = hn::Zero(d8);
-      auto acc1 = hn::Zero(d8);
-      const auto flush = [&]()
+      else if (u)
       {
-        if (runColumn < 0)
-        {
-          return;
-        }
-        float* cell = s.Cells + static_cast<std::size_t>(runColumn) * columnFloats + 4 * runBin;
-        hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc0), d8, cell);
-        cell += columnFloats;
-        hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc1), d8, cell);
-        for (int c = runColumn; c <= runColumn + 1; ++c)
-        {
-          s.KMin[c] = runBin < s.KMin[c] ? runBin : s.KMin[c];
-          s.KMax[c] = runBin + 1 > s.KMax[c] ? runBin + 1 : s.KMax[c];
-        }
-      };
-      for (int x = 0; x < in.Width; ++x)
-      {
-        const float z = GuideToGrid(guide[x * stride], geo.RangeStep);
-        const int k0 = FloorToInt(z);
-        const int c0 = g.I0[x] + 1;
-        if (c0 != runColumn || k0 != runBin)
-        {
-          flush();
-          runColumn = c0;
-          runBin = k0;
-          acc0 = hn::Zero(d8);
-          acc1 = hn::Zero(d8);
-        }
-        const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
-        const auto v4 = hn::Min(hn::LoadU(dh, demod + 4 * x), hn::Load(dh, limit));
-        const auto value = hn::Combine(d8, v4, v4);
-        // (tx * ty) * tz, as the definition
-        acc0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * ty), tz), value, acc0);
-        acc1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * ty), tz), value, acc1);
+        PushPixelRow<true, false>(in, g, columnFloats, limit, y, upper, lower);
       }
-      flush();
-#else
-      for (int x = 0; x < in.Width; ++x)
+      else if (l)
       {
-        const float z = GuideToGrid(guide[x * stride], geo.RangeStep);
-        const int k0 = FloorToInt(z);
-        const float tz0 = Tent(z - static_cast<float>(k0));
-        const float tz1 = Tent(z - static_cast<float>(k0 + 1));
-        const int c0 = g.I0[x] + 1;
-        const float w0 = g.Tx0[x] * ty; // (tx * ty) * tz, as the definition
-        const float w1 = g.Tx1[x] * ty;
-        float* cell = s.Cells + static_cast<std::size_t>(c0) * columnFloats + 4 * k0;
-        HWY_ALIGN float value[4];
-        ForCell([&](std::size_t o)
-          { hn::Store(hn::Min(hn::LoadU(d, demod + 4 * x + o), hn::Load(d, limit + o)), d,
-              value + o); });
-        Push(cell, w0 * tz0, value);
-        Push(cell + 4, w0 * tz1, value);
-        Push(cell + columnFloats, w1 * tz0, value);
-        Push(cell + columnFloats + 4, w1 * tz1, value);
-        for (int c = c0; c <= c0 + 1; ++c)
-        {
-          s.KMin[c] = k0 < s.KMin[c] ? k0 : s.KMin[c];
-          s.KMax[c] = k0 + 1 > s.KMax[c] ? k0 + 1 : s.KMax[c];
-        }
+        PushPixelRow<false, true>(in, g, columnFloats, limit, y, upper, lower);
       }
-#endif
     }
-    // Normalise the touched cells of the grid's own columns into the level (the padding columns
-    // and bin stay zero there) and zero the scratch again.
-    float* target = g.Cells + static_cast<std::size_t>(j + 1) * rowFloats;
+    if (!ownUpper)
+    {
+      continue;
+    }
+    // Grid row j0 has all its pixels: normalise the touched cells of its own columns into the
+    // level (the padding columns and bin stay zero there) and zero the scratch again.
+    const RowTarget done = target(j0, 0.f);
+    float* level = g.Cells + static_cast<std::size_t>(j0 + 1) * rowFloats;
     for (int c = 0; c < g.Columns; ++c)
     {
-      const int kLo = s.KMin[c];
-      const int kHi = s.KMax[c];
+      const int kLo = done.KMin[c];
+      const int kHi = done.KMax[c];
       if (kLo > kHi)
       {
         continue;
       }
-      float* scratch = s.Cells + static_cast<std::size_t>(c) * columnFloats;
+      float* scratch = done.Cells + static_cast<std::size_t>(c) * columnFloats;
       const bool inside = c >= 1 && c <= geo.Width;
       const int kLast = kHi < geo.Depth - 1 ? kHi : geo.Depth - 1;
       for (int k = kLo; inside && k <= kLast; ++k)
       {
         const float w = scratch[4 * k + 3];
-        float* cell = target + static_cast<std::size_t>(c) * columnFloats + 4 * k;
+        float* cell = level + static_cast<std::size_t>(c) * columnFloats + 4 * k;
         // A kept cell becomes (r, g, b, w) / w = (mean, 1); an empty one (0, 0, 0, 0).
         ForCell([&](std::size_t o)
           { hn::StoreU(w > 0.f ? hn::Div(hn::LoadU(d, scratch + 4 * k + o), hn::Set(d, w))
                                 : hn::Zero(d), d, cell + o); });
       }
       std::fill(scratch + 4 * kLo, scratch + 4 * (kHi + 1), 0.f);
-      s.KMin[c] = INT_MAX;
-      s.KMax[c] = -1;
+      done.KMin[c] = INT_MAX;
+      done.KMax[c] = -1;
     }
   }
 }
 
+#if PTV_GRID_WIDE
+/// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a row0 (weight
+/// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero.
+HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRICT row0,
+  const float* HWY_RESTRICT row1, float ty0, float ty1, int x, float guide)
+{
+  const D8 d8;
+  const DH dh;
+  const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
+  const float z = GuideToGrid(guide, g.Geometry.RangeStep);
+  const int k0 = FloorToInt(z);
+  const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
+  const std::size_t offset =
+    static_cast<std::size_t>(g.I0[x] + 1) * columnFloats + 4 * static_cast<std::size_t>(k0);
+  const float* c00 = row0 + offset; // (j0, i0)
+  const float* c01 = row1 + offset; // (j0 + 1, i0)
+  // Two independent sums (grid rows j0 and j0 + 1) halve the dependency chain.
+  auto upper = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty0), tz), hn::LoadU(d8, c00));
+  auto lower = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty1), tz), hn::LoadU(d8, c01));
+  upper = hn::MulAdd(
+    hn::Mul(hn::Set(d8, g.Tx1[x] * ty0), tz), hn::LoadU(d8, c00 + columnFloats), upper);
+  lower = hn::MulAdd(
+    hn::Mul(hn::Set(d8, g.Tx1[x] * ty1), tz), hn::LoadU(d8, c01 + columnFloats), lower);
+  const auto acc = hn::Add(upper, lower);
+  const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
+  const auto weight = hn::Broadcast<3>(total); // the kept weights; 0: every tap dropped
+  return hn::IfThenElseZero(hn::Gt(weight, hn::Zero(dh)), hn::Div(total, weight));
+}
+
+/// SliceRowsKernel on AVX2 / AVX-512: each level's (r, g, b) and the blend stay in one vector.
+void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
+{
+  const DH dh;
+  const int levels = in.NumberOfLevels;
+  const auto epsilon = hn::Set(dh, kDemodulationEpsilon);
+  const auto maxFinite = hn::Set(dh, kMaxFiniteFloat);
+  const auto one = hn::Set(dh, 1.f);
+  for (int y = yBegin; y < yEnd; ++y)
+  {
+    const float* rows[kMaxGridLevels][2] = {};
+    float ty0[kMaxGridLevels] = {};
+    float ty1[kMaxGridLevels] = {};
+    for (int l = 0; l < levels; ++l)
+    {
+      const PushGrid& g = in.Levels[l];
+      const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * g.Bins * 4;
+      rows[l][0] = g.Cells + static_cast<std::size_t>(g.J0[y] + 1) * rowFloats;
+      rows[l][1] = rows[l][0] + rowFloats;
+      ty0[l] = g.Ty0[y];
+      ty1[l] = g.Ty1[y];
+    }
+    const std::size_t row = static_cast<std::size_t>(y) * in.Width;
+    for (int x = 0; x < in.Width; ++x)
+    {
+      const std::size_t p = row + x;
+      const float* guides = in.Guides + p * levels;
+      auto r = SliceLevelWide(in.Levels[0], rows[0][0], rows[0][1], ty0[0], ty1[0], x, guides[0]);
+      if (levels >= 2)
+      {
+        // Blend: s1 w1 + s2 (1 - w1), or s1 w1 + s2 w2 + s3 (1 - w1 - w2) (ptvBilateralGrid.h)
+        const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;
+        const float a = SanitizeBlendWeight(w ? w[0] : 0.f);
+        const auto s2 =
+          SliceLevelWide(in.Levels[1], rows[1][0], rows[1][1], ty0[1], ty1[1], x, guides[1]);
+        if (levels == 2)
+        {
+          r = hn::MulAdd(s2, hn::Set(dh, 1.f - a), hn::Mul(r, hn::Set(dh, a)));
+        }
+        else
+        {
+          const float b = SanitizeBlendWeight(w ? w[1] : 0.f);
+          const float c = (1.f - a) - b;
+          const auto s3 =
+            SliceLevelWide(in.Levels[2], rows[2][0], rows[2][1], ty0[2], ty1[2], x, guides[2]);
+          r = hn::MulAdd(
+            s3, hn::Set(dh, c), hn::Add(hn::Mul(r, hn::Set(dh, a)), hn::Mul(s2, hn::Set(dh, b))));
+        }
+      }
+      if (in.Albedo) // Remodulate: times SanitizeAlbedo(A) + eps
+      {
+        HWY_ALIGN float albedo[4] = { in.Albedo[3 * p], in.Albedo[3 * p + 1],
+          in.Albedo[3 * p + 2], 0.f };
+        const auto al = hn::Load(dh, albedo);
+        const auto kept = hn::And(hn::Ge(al, hn::Zero(dh)), hn::Le(al, maxFinite));
+        r = hn::Mul(r, hn::Add(hn::IfThenElseZero(kept, hn::Min(al, one)), epsilon));
+      }
+      float* out = in.Out + 3 * p;
+      if (x + 1 < in.Width) // the fourth lane lands on the next pixel, written after this one
+      {
+        hn::StoreU(r, dh, out);
+      }
+      else
+      {
+        HWY_ALIGN float last[4];
+        hn::Store(r, dh, last);
+        out[0] = last[0];
+        out[1] = last[1];
+        out[2] = last[2];
+      }
+    }
+  }
+}
+#endif
+
 void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
 {
+#if PTV_GRID_WIDE
+  SliceRowsWide(in, yBegin, yEnd);
+#else
   const D4 d;
   const int levels = in.NumberOfLevels;
   for (int y = yBegin; y < yEnd; ++y)
@@ -242,23 +427,6 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         const float* c10 = c00 + columnFloats;  // (j0, i0 + 1)
         const float* c11 = c01 + columnFloats;  // (j0 + 1, i0 + 1)
         HWY_ALIGN float sum[4];
-#if PTV_GRID_WIDE
-        const D8 d8;
-        const DH dh;
-        const auto tz = Pair(tz0, tz1);
-        // Two independent sums (grid rows j0 and j0 + 1) halve the dependency chain.
-        auto upper = hn::Mul(hn::Mul(hn::Set(d8, w00), tz), hn::LoadU(d8, c00));
-        auto lower = hn::Mul(hn::Mul(hn::Set(d8, w01), tz), hn::LoadU(d8, c01));
-        upper = hn::MulAdd(hn::Mul(hn::Set(d8, w10), tz), hn::LoadU(d8, c10), upper);
-        lower = hn::MulAdd(hn::Mul(hn::Set(d8, w11), tz), hn::LoadU(d8, c11), lower);
-        const auto acc = hn::Add(upper, lower);
-        const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
-        hn::Store(hn::Div(total, hn::Broadcast<3>(total)), dh, sum); // (mean r, g, b, 1)
-        if (hn::GetLane(hn::Broadcast<3>(total)) > 0.f) // the kept weights; 0: all dropped
-        {
-          s[l] = MakeVec3(sum[0], sum[1], sum[2]);
-        }
-#else
         ForCell(
           [&](std::size_t o)
           {
@@ -276,7 +444,6 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         {
           s[l] = MakeVec3(sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3]);
         }
-#endif
       }
       const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;
       const float w1 = levels >= 2 && w ? w[0] : 0.f;
@@ -288,7 +455,9 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
       in.Out[3 * p + 2] = r.z;
     }
   }
+#endif
 }
+
 } // namespace HWY_NAMESPACE
 } // namespace ptv
 HWY_AFTER_NAMESPACE();

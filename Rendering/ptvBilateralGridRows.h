@@ -39,13 +39,14 @@ struct PushGrid
   const float* Ty1 = nullptr;
 };
 
-/// Scratch for splatting one grid row: Columns * Bins * 4 floats, zero between rows, and the
-/// touched bin range of each column (KMin > KMax: none).
+/// Scratch for splatting two consecutive grid rows (a pixel row pushes into both): row j's is
+/// Cells[j & 1], Columns * Bins * 4 floats, zero between rows, and the touched bin range of each
+/// of its columns, KMin[j & 1][c] .. KMax[j & 1][c] (KMin > KMax: none).
 struct SplatScratch
 {
-  float* Cells;
-  int* KMin;
-  int* KMax;
+  float* Cells[2];
+  int* KMin[2];
+  int* KMax[2];
 };
 
 /// What the splat reads: demodulated, clamped-on-the-fly pixels and one level's guides.
@@ -73,10 +74,12 @@ struct SliceInput
 };
 
 /**
- * Splat grid rows [jBegin, jEnd) of @a grid: for each, push every pixel within its tent support
- * into @a scratch, then write the touched cells of its columns normalised into grid.Cells (and
- * leave @a scratch zero again). @a portable: the baseline build of the kernel instead of the best
- * instruction set of this CPU.
+ * Splat grid rows [jBegin, jEnd) of @a grid: every pixel row y with j0 = J0[y] in
+ * [jBegin - 1, jEnd - 1] is read once and pushed into grid rows j0 and j0 + 1 (those of the
+ * range); once the rows of j0 are done, grid row j0 is complete and its touched cells are written
+ * normalised into grid.Cells (and its scratch left zero again). Each cell receives its pixels in
+ * increasing y, then x, as a loop over one grid row's support would. @a portable: the baseline
+ * build of the kernel instead of the best instruction set of this CPU.
  */
 void SplatGridRows(const SplatInput& in, PushGrid& grid, SplatScratch& scratch, int jBegin,
   int jEnd, bool portable);
