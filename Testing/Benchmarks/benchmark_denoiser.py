@@ -22,6 +22,8 @@ import sys
 from pathlib import Path
 from typing import Any, Callable, Dict, List
 
+import numpy as np
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ptvbench as pb  # noqa: E402  (appends <repo>/Python after PYTHONPATH)
 from ptvbench import ROOT  # noqa: E402
@@ -56,14 +58,16 @@ def measure(p: pb.Passes, args: argparse.Namespace, levels: int) -> Dict[str, Di
     ours[f"ours {levels} levels, portable kernels"] = pb.Ours(0, args.model, portable=True)
     for o in ours.values():
         o.set_passes(p)
-    calls: Dict[str, Callable[[], Any]] = {name: o.execute for name, o in ours.items()}
+    calls: Dict[str, Callable[[], Any]] = {name: (lambda o=o: o.execute(copy=False))
+                                           for name, o in ours.items()}
     for q in ("fast", "balanced"):
         calls[f"OIDN RT {q}"] = (lambda q=q: pb.oidn(p, q))
     runs = pb.interleaved(calls, args.repeats, {name: o.stages for name, o in ours.items()})
     methods: Dict[str, Dict[str, Any]] = {"noisy 1 spp": {"ms": 0.0, "image": p["Radiance"],
                                                           "times": []}}
     for name, run in runs.items():
-        m: Dict[str, Any] = {"ms": statistics.median(run["times"]), "image": run["result"],
+        m: Dict[str, Any] = {"ms": statistics.median(run["times"]),
+                             "image": np.array(run["result"]),  # a copy of the last output
                              "times": run["times"]}
         if name in ours:
             m.update({k: statistics.median(e[k] for e in run["extra"]) for k in STAGES})
