@@ -97,11 +97,6 @@ bool Parse(const std::string& name, Channel& c)
   return c.Component >= 0;
 }
 
-float Clip01(float v)
-{
-  return std::min(1.0f, std::max(0.0f, v));
-}
-
 /// What one channel needs besides its pass: the hit test and normalisation of depth/position.
 struct ChannelRange
 {
@@ -112,49 +107,41 @@ struct ChannelRange
   float Miss = 0.f;                 ///< value of a miss
 };
 
-/// The feature values of full-resolution row @a y of channel @a c into @a dst (W floats).
+/// The feature values of full-resolution row @a y of channel @a c into @a dst (W floats), by the
+/// vectorised row kernel (ptvFeatureRows.cxx).
 void TransformRow(const Channel& c, const ChannelRange& r, const float* const* passes, int y,
   int width, bool portable, float* dst)
 {
   const int comps = GetPassInfo(c.Pass).Components;
   const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
-  const float* src = passes[c.Pass] + row * comps + c.Component;
+  FeatureRowInput in;
+  in.Row = passes[c.Pass] + row * comps;
+  in.Components = comps;
+  in.Component = c.Component;
+  in.Width = width;
   switch (c.What)
   {
     case Kind::Color:
-      for (int x = 0; x < width; ++x)
-      {
-        dst[x] = src[static_cast<std::size_t>(x) * comps];
-      }
-      GammaInPlace(dst, static_cast<std::size_t>(width), portable); // clip(max(v,0)^(1/2.2))
+      in.Transform = FeatureTransform::Gamma;
       break;
     case Kind::Alpha:
     case Kind::Albedo:
-      for (int x = 0; x < width; ++x)
-      {
-        dst[x] = Clip01(src[static_cast<std::size_t>(x) * comps]);
-      }
+      in.Transform = FeatureTransform::Clip;
       break;
     case Kind::Normal:
-      for (int x = 0; x < width; ++x)
-      {
-        dst[x] = Clip01((src[static_cast<std::size_t>(x) * comps] + 1.0f) * 0.5f);
-      }
+      in.Transform = FeatureTransform::Normal;
       break;
     case Kind::Depth:
     case Kind::Position:
-    {
-      const float* depth = r.MaskDepth + row;
-      for (int x = 0; x < width; ++x)
-      {
-        const float v = src[static_cast<std::size_t>(x) * comps];
-        dst[x] = !(depth[x] < r.HitLimit)
-          ? r.Miss
-          : (r.Range > 0.0f ? Clip01((v - r.Low) / r.Range) : 0.0f);
-      }
+      in.Transform = FeatureTransform::Range;
+      in.Mask = r.MaskDepth + row;
+      in.HitLimit = r.HitLimit;
+      in.Low = r.Low;
+      in.Range = r.Range;
+      in.Miss = r.Miss;
       break;
-    }
   }
+  FeatureRow(in, dst, portable);
 }
 
 /**
@@ -162,16 +149,14 @@ void TransformRow(const Channel& c, const ChannelRange& r, const float* const* p
  * order; @a first: out[j] starts from 0. Rows of a block added in order, then divided by s^2,
  * give the box average the network's input is defined with (guidenet.py).
  */
-void AccumulateRow(const float* line, int s, int width, bool first, float* out)
+void AccumulateRow(const float* line, int s, int width, bool first, bool portable, float* out)
 {
   const int reduced = ReducedSize(width, s);
   int j = 0;
-  if (s == 2) // the shipped model's stride: pairs without index clamps (vectorisable)
+  if (s == 2) // the shipped model's stride: pairs without index clamps (vectorised)
   {
-    for (const int pairs = width / 2; j < pairs; ++j)
-    {
-      out[j] = ((first ? 0.f : out[j]) + line[2 * j]) + line[2 * j + 1];
-    }
+    j = width / 2;
+    AccumulatePairs(line, static_cast<std::size_t>(j), first, out, portable);
   }
   for (; j < reduced; ++j)
   {
@@ -335,7 +320,7 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
             {
               TransformRow(plan.Source, plan.Range, passes, std::min(s * ii + dy, height - 1),
                 width, portable, scratch);
-              AccumulateRow(scratch, s, width, dy == 0, row);
+              AccumulateRow(scratch, s, width, dy == 0, portable, row);
             }
             const float area = static_cast<float>(s * s);
             for (int j = 0; j < reducedW; ++j)
