@@ -201,7 +201,7 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
   this->Weights.resize(n * std::max(levels - 1, 0));
   // Fewer levels than the model: the first levels-1 weights, the last level takes the rest.
   this->Upsampler.Run(this->NetOutput.data(), netWidth, netHeight, stride, width, height, levels,
-    modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads,
+    modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads, portable,
     this->Guides.data(), this->Weights.data());
   this->Timings.GuideNet = NowMs() - t1;
   this->Status = "GuideNet " + source + ", " + std::to_string(levels) + " levels" +

@@ -1,5 +1,7 @@
 #include "ptvGuideUpsample.h"
 
+#include "Kernels/ptvBilateralGrid.h"
+#include "ptvGuideUpsampleRows.h"
 #include "ptvThreads.h"
 
 #include "vtkType.h"
@@ -34,7 +36,7 @@ void Axis(int n, int reduced, int stride, std::vector<int>& i0, std::vector<int>
 
 //------------------------------------------------------------------------------
 void GuideUpsampler::Run(const float* net, int netWidth, int netHeight, int stride, int width,
-  int height, int levels, int modelLevels, float scale, int threads, float* guides,
+  int height, int levels, int modelLevels, float scale, int threads, bool portable, float* guides,
   float* weights)
 {
   const std::size_t plane = static_cast<std::size_t>(netWidth) * netHeight;
@@ -44,40 +46,55 @@ void GuideUpsampler::Run(const float* net, int netWidth, int netHeight, int stri
     Axis(width, netWidth, stride, this->X0, this->X1, this->LX);
     Axis(height, netHeight, stride, this->Y0, this->Y1, this->LY);
   }
-  ParallelFor(threads, 0, height, 16,
-    [&](vtkIdType yBegin, vtkIdType yEnd)
+  // Fixed blocks of rows, one per thread, each with its scratch rows.
+  const int blocks = std::max(1, std::min(ResolvedThreads(threads), height));
+  const std::size_t rowFloats = static_cast<std::size_t>(width);
+  this->Scratch.resize(static_cast<std::size_t>(blocks) * channels * rowFloats);
+  ParallelFor(threads, 0, blocks, 1,
+    [&](vtkIdType blockBegin, vtkIdType blockEnd)
     {
-      for (vtkIdType y = yBegin; y < yEnd; ++y)
+      for (vtkIdType b = blockBegin; b < blockEnd; ++b)
       {
-        for (int c = 0; c < channels; ++c)
+        float* scratch = this->Scratch.data() + static_cast<std::size_t>(b) * channels * rowFloats;
+        const float* rows[2 * kMaxGridLevels - 1] = {}; // levels <= kMaxGridLevels
+        for (vtkIdType y = height * b / blocks; y < height * (b + 1) / blocks; ++y)
         {
-          // Channel c: guide c, or weight c - levels (model plane modelLevels + c - levels).
-          const bool guide = c < levels;
-          const float* src = net + plane * (guide ? c : modelLevels + c - levels);
-          float* dst = guide ? guides + c : weights + (c - levels);
-          const int step = guide ? levels : levels - 1;
-          const float factor = guide ? scale : 1.0f;
-          float* out = dst + static_cast<std::size_t>(y) * width * step;
-          if (stride == 1)
+          for (int c = 0; c < channels; ++c)
           {
-            const float* row = src + static_cast<std::size_t>(y) * width;
-            for (int x = 0; x < width; ++x)
+            // Channel c: guide c, or weight c - levels (model plane modelLevels + c - levels).
+            const bool guide = c < levels;
+            const float* src = net + plane * (guide ? c : modelLevels + c - levels);
+            float* row = scratch + static_cast<std::size_t>(c) * rowFloats;
+            rows[c] = row;
+            const float factor = guide ? scale : 1.0f;
+            if (stride == 1)
             {
-              out[static_cast<std::size_t>(x) * step] = row[x] * factor;
+              const float* from = src + static_cast<std::size_t>(y) * width;
+              for (int x = 0; x < width; ++x)
+              {
+                row[x] = from[x] * factor;
+              }
+              continue;
             }
-            continue;
+            UpsampleRowInput in;
+            in.R0 = src + static_cast<std::size_t>(this->Y0[y]) * netWidth;
+            in.R1 = src + static_cast<std::size_t>(this->Y1[y]) * netWidth;
+            in.LY = this->LY[y];
+            in.X0 = this->X0.data();
+            in.X1 = this->X1.data();
+            in.LX = this->LX.data();
+            in.Width = width;
+            in.Factor = factor;
+            in.Stride = stride;
+            in.NetWidth = netWidth;
+            UpsampleRow(in, row, portable);
           }
-          const float* r0 = src + static_cast<std::size_t>(this->Y0[y]) * netWidth;
-          const float* r1 = src + static_cast<std::size_t>(this->Y1[y]) * netWidth;
-          const float ly = this->LY[y];
-          for (int x = 0; x < width; ++x)
+          const std::size_t pixel = static_cast<std::size_t>(y) * width;
+          InterleaveRows(rows, levels, width, guides + pixel * levels, portable);
+          if (levels > 1)
           {
-            const int a = this->X0[x];
-            const int b = this->X1[x];
-            const float lx = this->LX[x];
-            const float top = (1.f - lx) * r0[a] + lx * r0[b];
-            const float bottom = (1.f - lx) * r1[a] + lx * r1[b];
-            out[static_cast<std::size_t>(x) * step] = ((1.f - ly) * top + ly * bottom) * factor;
+            InterleaveRows(rows + levels, levels - 1, width, weights + pixel * (levels - 1),
+              portable);
           }
         }
       }

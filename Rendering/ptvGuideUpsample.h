@@ -9,7 +9,9 @@
  * source coordinate sx = max((x + 0.5) / s - 0.5, 0), x0 = floor(sx), x1 = min(x0 + 1, w - 1),
  * lx = sx - x0 (likewise y), value = (1 - ly) ((1 - lx) o(y0, x0) + lx o(y0, x1))
  * + ly ((1 - lx) o(y1, x0) + lx o(y1, x1)). With s = 1 the values are copied. Threaded over
- * image rows; the coordinate tables are kept between frames.
+ * blocks of image rows; each channel's row is computed by the vectorised kernel
+ * (ptvGuideUpsampleRows.h) into the block's scratch row, then interleaved into the output. The
+ * coordinate tables and scratch rows are kept between frames.
  */
 #ifndef ptvGuideUpsample_h
 #define ptvGuideUpsample_h
@@ -28,11 +30,13 @@ public:
    * into @a weights (W * H * (levels - 1)); @a modelLevels locates the weight planes.
    */
   void Run(const float* net, int netWidth, int netHeight, int stride, int width, int height,
-    int levels, int modelLevels, float scale, int threads, float* guides, float* weights);
+    int levels, int modelLevels, float scale, int threads, bool portable, float* guides,
+    float* weights);
 
 private:
   std::vector<int> X0, X1, Y0, Y1;
   std::vector<float> LX, LY;
+  std::vector<float> Scratch; // per block: one row per written channel
 };
 }
 
