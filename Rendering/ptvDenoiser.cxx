@@ -30,9 +30,10 @@ const std::vector<std::string> kFixedGuideChannels = { "albedo.r", "albedo.g", "
 constexpr double kMinimumGridCells = 16.0;
 
 /**
- * How many of the model's @a count levels (finest first) a @a width x @a height image uses when
- * the level count is automatic: coarser levels whose grid would have fewer than
- * kMinimumGridCells cells over the image are dropped, the finest always stays (measured on the
+ * How many of @a count levels (finest first; the model's default, "ptv.default_levels") a
+ * @a width x @a height image uses when the level count is automatic: coarser levels whose grid
+ * would have fewer than kMinimumGridCells cells over the image are dropped, the finest always
+ * stays (measured on the
  * head CT: at 8-24 pixels a side one level beats two by 0.3-2.2 dB; at 32 the two are level).
  * Training/ptv_training/bilateral_grid.py (fitting_levels) is the same rule.
  */
@@ -195,7 +196,7 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
   }
   const int levels = settings.Levels > 0
     ? std::min(settings.Levels, modelLevels)
-    : FittingLevels(this->Session.GetLevels(), modelLevels, width, height);
+    : FittingLevels(this->Session.GetLevels(), this->Session.GetDefaultLevels(), width, height);
   this->Levels = levels;
   this->Guides.resize(n * levels);
   this->Weights.resize(n * std::max(levels - 1, 0));

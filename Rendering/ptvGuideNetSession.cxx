@@ -19,6 +19,7 @@ const char* const LevelsKey = "ptv.levels";
 const char* const GuideScaleKey = "ptv.guide_scale";
 const char* const DemodulateKey = "ptv.demodulate";
 const char* const GuideStrideKey = "ptv.guide_stride";
+const char* const DefaultLevelsKey = "ptv.default_levels";
 const char* const OutputsKey = "ptv.outputs";
 constexpr int kMaxGuideStride = 16;
 const char* const FormatValue = "guidenet-v1";
@@ -152,6 +153,7 @@ void GuideNetSession::Unload()
   this->Demodulate = true;
   this->ImageOutput = false;
   this->GuideStride = 1;
+  this->DefaultLevels = 0;
   this->OutputChannels = 0;
 }
 
@@ -187,6 +189,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   std::vector<std::pair<int, int>> levels;
   double guideScale = 255.0;
   int guideStride = 1;
+  int defaultLevels = 0; // 0: every level of the model
   int outputChannels = 0;
   bool demodulate = true;
   bool image = false;
@@ -335,6 +338,25 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       }
     }
 
+    if (lookup(DefaultLevelsKey, value))
+    {
+      // Checked against the level count once "ptv.levels" is known (below).
+      if (image || !ParsePositive(Trim(value), defaultLevels))
+      {
+        problems.push_back(std::string("metadata ") + DefaultLevelsKey + " \"" + value + "\" " +
+          (image ? "is only for guidenet-v1 models" : "is not a positive integer"));
+        defaultLevels = 0;
+      }
+    }
+
+    if (haveLevels && defaultLevels > static_cast<int>(levels.size()))
+    {
+      problems.push_back(std::string("metadata ") + DefaultLevelsKey + " \"" +
+        std::to_string(defaultLevels) + "\" is above the model's " +
+        std::to_string(levels.size()) + " levels");
+      defaultLevels = 0;
+    }
+
     if (image && guideStride != 1)
     {
       problems.push_back(std::string("metadata ") + GuideStrideKey +
@@ -469,6 +491,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   this->Demodulate = demodulate;
   this->ImageOutput = image;
   this->GuideStride = guideStride;
+  this->DefaultLevels = defaultLevels;
   this->OutputChannels = outputChannels;
   return true;
 }

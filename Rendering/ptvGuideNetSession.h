@@ -71,6 +71,12 @@ public:
   int GetGuideStride() const { return this->GuideStride; }
   /// True for a "denoiser-v1" model: its output is the denoised radiance, not grid guides.
   bool IsImageModel() const { return this->ImageOutput; }
+  /// "ptv.default_levels": how many of the finest levels run when the caller asks for none in
+  /// particular (the model's choice of speed and quality); every level when the model has none.
+  int GetDefaultLevels() const
+  {
+    return this->DefaultLevels > 0 ? this->DefaultLevels : this->GetNumberOfLevels();
+  }
   /// (spatial step ss, range step sr) per level, finest first.
   const std::vector<std::pair<int, int>>& GetLevels() const { return this->Levels; }
   double GetGuideScale() const { return this->GuideScale; }
@@ -96,6 +102,7 @@ private:
   bool ImageOutput = false;
   int OutputChannels = 0;
   int GuideStride = 1;
+  int DefaultLevels = 0;
 };
 }
 

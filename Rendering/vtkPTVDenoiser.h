@@ -85,8 +85,10 @@ public:
 
   ///@{
   /**
-   * Grid levels: 0 (default) = the model's (3 with the fixed guide, the component count of given
-   * "Guides"); 1..3 uses the model's finest ones (given guides must have as many components).
+   * Grid levels: 0 (default) = the model's default ("ptv.default_levels", else all its levels;
+   * the shipped model: 1 of its 3), 3 with the fixed guide, the component count of given
+   * "Guides"; 1..3 uses the model's finest ones, up to all it has (given guides must have as
+   * many components).
    * With 0 and the network, a small image drops the model's coarser levels whose grid would
    * have fewer than 16 cells over it (the finest stays): there they only blur (e.g. an 8 x 8
    * image uses the 4-pixel level alone).

@@ -266,8 +266,9 @@ public:
 
   ///@{
   /**
-   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's, less those too coarse
-   * for a small image (vtkPTVDenoiser::SetNumberOfLevels); 1..3 = the finest.
+   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's default (the shipped
+   * model: 1 of its 3), less those too coarse for a small image
+   * (vtkPTVDenoiser::SetNumberOfLevels); 1..3 = the finest, up to the model's.
    */
   vtkSetClampMacro(DenoiserNumberOfLevels, int, 0, 3);
   vtkGetMacro(DenoiserNumberOfLevels, int);

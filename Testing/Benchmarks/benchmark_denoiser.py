@@ -4,7 +4,8 @@
 For each dataset and size: the 1-spp passes and a high-spp reference of one view are rendered
 with vtkPathTracedVolumeMapper (Denoise off) and cached in <cache>/bench; then, in the same run,
 vtkPTVDenoiser (the model, every grid level count; with 2 threads, and with 1 thread and with the
-portable kernels at the model's level count) and pyoidn's RT filter (quality fast and balanced,
+portable kernels at the model's default level count, ptv.default_levels, whose rows the targets
+read) and pyoidn's RT filter (quality fast and balanced,
 HDR colour + albedo + normal) denoise the same radiance. Every method runs once per round, one
 warm-up round and then --repeats timed rounds, so a slow spell of a shared machine slows all of
 them alike: times are medians over rounds and ratios are medians of per-round ratios. Ours is split into features, GuideNet (incl. the guide upsampling), splat (incl.
@@ -47,15 +48,20 @@ def parse_args() -> argparse.Namespace:
     return parser.parse_args()
 
 
-def measure(p: pb.Passes, args: argparse.Namespace, levels: int) -> Dict[str, Dict[str, Any]]:
+def level_name(count: int) -> str:
+    return f"ours {count} level{'s' if count > 1 else ''}"
+
+
+def measure(p: pb.Passes, args: argparse.Namespace, levels: int,
+            default: int) -> Dict[str, Dict[str, Any]]:
     """Every method on one frame's passes, interleaved round by round (pb.interleaved);
-    ``levels``: the model's level count. Each method's ``times`` are kept for paired ratios."""
+    ``levels``: the model's level count, ``default``: the count it runs with by default (the
+    1-thread and portable variants). Each method's ``times`` are kept for paired ratios."""
     ours: Dict[str, pb.Ours] = {}
-    for count in range(1, levels):
-        ours[f"ours {count} level{'s' if count > 1 else ''}"] = pb.Ours(count, args.model)
-    ours[f"ours {levels} levels"] = pb.Ours(0, args.model)
-    ours[f"ours {levels} levels, 1 thread"] = pb.Ours(0, args.model, threads=1)
-    ours[f"ours {levels} levels, portable kernels"] = pb.Ours(0, args.model, portable=True)
+    for count in range(1, levels + 1):
+        ours[level_name(count)] = pb.Ours(count, args.model)
+    ours[f"{level_name(default)}, 1 thread"] = pb.Ours(default, args.model, threads=1)
+    ours[f"{level_name(default)}, portable kernels"] = pb.Ours(default, args.model, portable=True)
     for o in ours.values():
         o.set_passes(p)
     calls: Dict[str, Callable[[], Any]] = {name: (lambda o=o: o.execute(copy=False))
@@ -82,11 +88,12 @@ def main() -> int:
     summary = []
     ratios: List[Dict[str, Any]] = []
     levels = pb.model_levels(args.model)
+    default = pb.model_default_levels(args.model)  # the targets are the default's
     for dataset in args.datasets:
         for size in args.sizes:
             p = pb.bench_passes(dataset, size, args.ref_spp, args.cache)
             check = pb.quality(p["Reference"], p["Reference/2"])[0]
-            methods = measure(p, args, levels)
+            methods = measure(p, args, levels, default)
             for name, m in methods.items():
                 psnr, ssim = pb.quality(p["Reference"], m["image"])
                 rows.append({"dataset": dataset, "size": size, "method": name,
@@ -96,15 +103,16 @@ def main() -> int:
                              "reference_spp": args.ref_spp,
                              "reference_half_vs_full_psnr": check})
             sel = {r["method"]: r for r in rows if r["dataset"] == dataset and r["size"] == size}
-            ours, oidn = sel[f"ours {levels} levels"], sel["OIDN RT fast"]
-            full = methods[f"ours {levels} levels"]["times"]
+            ours, oidn = sel[level_name(default)], sel["OIDN RT fast"]
+            full = methods[level_name(default)]["times"]
             speedup = pb.paired_ratio(methods["OIDN RT fast"]["times"], full)
-            threads = pb.paired_ratio(methods[f"ours {levels} levels, 1 thread"]["times"], full)
+            threads = pb.paired_ratio(methods[f"{level_name(default)}, 1 thread"]["times"], full)
             ratios.append({"dataset": dataset, "size": size, "oidn_fast_over_ours": speedup,
                            "one_over_two_threads": threads,
                            "psnr_ours_minus_oidn_fast": ours["psnr"] - oidn["psnr"]})
             summary.append(
-                f"{dataset} {size}²: OIDN fast / ours = {speedup:.1f}x (target >= 10x); PSNR "
+                f"{dataset} {size}², {default} level{'s' if default > 1 else ''} (the model's "
+                f"default): OIDN fast / ours = {speedup:.1f}x (target >= 10x); PSNR "
                 f"ours - OIDN fast = {ours['psnr'] - oidn['psnr']:+.2f} dB (target >= -0.5); "
                 f"1 -> 2 threads {threads:.2f}x (target >= 1.7x); reference check (ref/2 vs "
                 f"ref) {check:.1f} dB")

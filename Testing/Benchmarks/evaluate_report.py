@@ -7,8 +7,8 @@ from scikit-image with data_range 1, timings = median of --repeats after a warm-
 in the same run), one module each in the package ``evaluation/`` beside this script:
 
 1. Paper Table 1 per dataset (head, stent, concrete; "<Dataset> Two-Band (paper)" preset),
-   --views camera orbits each: the 1..256-spp sweep, 1 spp denoised by vtkPTVDenoiser (1 grid
-   level and the model's levels, "ours") and by OIDN (pyoidn RT, fast and balanced, albedo +
+   --views camera orbits each: the 1..256-spp sweep, 1 spp denoised by vtkPTVDenoiser (the
+   model's default level count, "ours", and every level of the model) and by OIDN (pyoidn RT, fast and balanced, albedo +
    normal) on the same 1-spp passes, against a --ref-spp reference of an independent seed
    (convergence: ref/2 vs ref).                                  (evaluation/table1.py)
 2. PSNR against time per dataset and the quality-matched speed-up. (evaluation/table1.py)

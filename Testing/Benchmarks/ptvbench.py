@@ -175,6 +175,15 @@ def model_levels(path: Union[str, Path] = "") -> int:
     return len(props["ptv.levels"].split(","))
 
 
+def model_default_levels(path: Union[str, Path] = "") -> int:
+    """How many levels the denoiser runs a model with by default (its ptv.default_levels, else
+    every level); "" = the shipped model."""
+    import onnx
+    model = onnx.load(str(path or SHIPPED_MODEL), load_external_data=False)
+    props = {p.key: p.value for p in model.metadata_props}
+    return int(props.get("ptv.default_levels", len(props["ptv.levels"].split(","))))
+
+
 class Ours:
     """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels."""
 

@@ -187,6 +187,28 @@ def test_cxx_matches_python_pipeline(passes, variant_models, variant, portable) 
     assert err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
 
 
+def test_model_default_levels(passes, tmp_path) -> None:
+    """export(default_levels=D): the C++ runs the finest D levels unless NumberOfLevels asks for
+    others (up to the model's), and D levels give exactly what NumberOfLevels = D gives."""
+    torch.manual_seed(6)
+    channels = features.VOLUME_FEATURES
+    net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8).eval()
+    path = export(net, tmp_path / "default1.onnx", channels, levels=LEVELS, default_levels=1)
+    import onnx
+    props = {p.key: p.value for p in onnx.load(str(path)).metadata_props}
+    assert props["ptv.default_levels"] == "1" and props["ptv.levels"] == "4:4,8:8,16:16"
+    ok, out, den, messages = cxx_denoise(passes, str(path))
+    assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+    assert ", 1 levels" in den.GetStatus(), den.GetStatus()
+    ok1, out1, den1, _ = cxx_denoise(passes, str(path), NumberOfLevels=1)
+    assert ok1 and np.array_equal(out, out1)
+    ok3, out3, den3, _ = cxx_denoise(passes, str(path), NumberOfLevels=3)
+    assert ok3 and ", 3 levels" in den3.GetStatus() and not np.array_equal(out, out3)
+    with pytest.raises(ValueError, match="default_levels"):
+        export(net, tmp_path / "bad.onnx", channels, levels=LEVELS, use_levels=2,
+               default_levels=3)
+
+
 @pytest.mark.parametrize("use_levels", [1, 2])
 def test_model_shipped_with_fewer_levels(passes, tmp_path, use_levels) -> None:
     """export(use_levels=N): the C++ runs the model's finest N levels (the other outputs become

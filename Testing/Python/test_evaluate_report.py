@@ -31,7 +31,7 @@ import pyoidn  # noqa: F401
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "Testing" / "Benchmarks" / "evaluate_report.py"
-METHODS = ("1 spp", "2 spp", "4 spp", "8 spp", "ours 1 level", "ours", "OIDN fast",
+METHODS = ("1 spp", "2 spp", "4 spp", "8 spp", "ours every level", "ours", "OIDN fast",
            "OIDN balanced")
 
 

@@ -629,6 +629,13 @@ def set_prop(key: str, value: str):
     return edit
 
 
+def add_prop(key: str, value: str):
+    def edit(model):
+        p = model.metadata_props.add()
+        p.key, p.value = key, value
+    return edit
+
+
 def drop_props(model) -> None:
     del model.metadata_props[:]
 
@@ -664,6 +671,12 @@ def bad_models(tmp_path: Path):
         "bad_levels": (
             edited_model(good, tmp_path / "badlevels.onnx", set_prop("ptv.levels", "4x4")),
             ['ptv.levels "4x4" is not a list']),
+        "default_levels_above": (
+            edited_model(good, tmp_path / "default4.onnx", add_prop("ptv.default_levels", "4")),
+            ['ptv.default_levels "4" is above the model\'s 3 levels']),
+        "default_levels_zero": (
+            edited_model(good, tmp_path / "default0.onnx", add_prop("ptv.default_levels", "0")),
+            ['ptv.default_levels "0" is not a positive integer']),
     }
 
 

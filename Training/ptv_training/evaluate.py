@@ -160,10 +160,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     channels = ck["channels"]
     levels = [tuple(level) for level in ck["levels"]]
     names = required_passes(channels)
-    # A model shipped with its finest N levels only (train.py --export-levels): torch does the same.
+    # A model shipped with its finest N levels only (train.py --export-levels), or run with D of
+    # them by default (ptv.default_levels): torch does what the C++ denoiser does by default.
     import onnx
     props = {p.key: p.value for p in onnx.load(str(args.model)).metadata_props}
     use_levels = len(props.get("ptv.levels", "").split(",")) if "ptv.levels" in props else None
+    if "ptv.default_levels" in props:
+        use_levels = int(props["ptv.default_levels"])
 
     rows: List[Dict[str, Any]] = []
     worst = 0.0
@@ -223,7 +226,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "parameters": count_parameters(model),
             "macs_per_pixel": macs_per_pixel(model),
             "channels": channels,
-            "levels": [list(level) for level in levels[:use_levels or len(levels)]],
+            "levels": [list(level) for level in
+                       levels[:len(props["ptv.levels"].split(",")) if "ptv.levels" in props
+                              else len(levels)]],
+            "default_levels": use_levels or len(levels),
             "trained_levels": [list(level) for level in levels],
             "clamp": ck["clamp"],
             "demodulate": ck.get("demodulate", True),

@@ -13,6 +13,8 @@ H x W, PyTorch's align_corners=False rule: see ``ptv_training.guidenet``); metad
     ptv.levels          "ss:sr" per level, finest first: "4:4,8:8,16:16"
     ptv.guide_scale     255 (guides in [0, 1] times this = grid range coordinate)
     ptv.guide_stride    s, one of 1, 2, 4, 8 (a model without this key has stride 1)
+    ptv.default_levels  optional: how many of the finest levels the denoiser runs when not told
+                        (its speed/quality choice; without the key, every level)
     ptv.outputs         guide0,...,guide{L-1},weight0,...,weight{L-2}, then pad0,pad1,... for
                         the padding channels beyond 2L - 1 (ignored)
     ptv.architecture    GuideNet constructor arguments (informative)
@@ -51,7 +53,7 @@ IMAGE_OUTPUT_NAME = "radiance"
 DEFAULT_LEVELS: Tuple[Tuple[int, int], ...] = ((4, 4), (8, 8), (16, 16))
 GUIDE_SCALE = 255
 RESERVED_KEYS = ("ptv.format", "ptv.input_channels", "ptv.levels", "ptv.guide_scale",
-                 "ptv.guide_stride", "ptv.outputs", "ptv.architecture")
+                 "ptv.guide_stride", "ptv.outputs", "ptv.architecture", "ptv.default_levels")
 
 
 def levels_string(levels: Sequence[Tuple[int, int]]) -> str:
@@ -80,10 +82,12 @@ def level_order(levels: int, use_levels: int, out_channels: int) -> list:
 def metadata(model: GuideNet, channels: Sequence[str],
              levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
              extra_metadata: Optional[Mapping[str, str]] = None,
-             use_levels: Optional[int] = None) -> Dict[str, str]:
+             use_levels: Optional[int] = None,
+             default_levels: Optional[int] = None) -> Dict[str, str]:
     """The metadata_props an export writes (after checking them against the model).
     ``use_levels`` N < L ships the finest N levels: the grid blends s1 w1 + ... + sN (1 - sum),
-    exactly what running the model with N levels does; the other outputs become padding."""
+    exactly what running the model with N levels does; the other outputs become padding.
+    ``default_levels`` D <= N: the denoiser runs the finest D of them unless told otherwise."""
     channels = list(channels)
     resolve_channels(channels)  # unknown names raise
     if len(channels) != model.in_channels:
@@ -107,6 +111,10 @@ def metadata(model: GuideNet, channels: Sequence[str],
         "ptv.outputs": outputs_string(n, model.out_channels),
         "ptv.architecture": ",".join(f"{k}={v}" for k, v in model.config().items()),
     }
+    if default_levels is not None:
+        if not 1 <= int(default_levels) <= n:
+            raise ValueError(f"default_levels must be 1..{n}, got {default_levels}")
+        props["ptv.default_levels"] = str(int(default_levels))
     for key, value in (extra_metadata or {}).items():
         if key in RESERVED_KEYS:
             raise ValueError(f"extra_metadata must not override {key!r}")
@@ -117,13 +125,15 @@ def metadata(model: GuideNet, channels: Sequence[str],
 def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
            levels: Sequence[Tuple[int, int]] = DEFAULT_LEVELS,
            extra_metadata: Optional[Mapping[str, str]] = None,
-           use_levels: Optional[int] = None) -> Path:
+           use_levels: Optional[int] = None,
+           default_levels: Optional[int] = None) -> Path:
     """Write ``model.core`` as a guidenet-v1 ONNX file at ``path`` (atomically); returns the
     path. ``use_levels``: ship only the finest N levels (see :func:`metadata`); the final
-    convolution's output channels are reordered so that the N - 1 weights follow the N guides."""
+    convolution's output channels are reordered so that the N - 1 weights follow the N guides.
+    ``default_levels``: the level count the denoiser runs by default (``ptv.default_levels``)."""
     import copy
 
-    props = metadata(model, channels, levels, extra_metadata, use_levels)
+    props = metadata(model, channels, levels, extra_metadata, use_levels, default_levels)
     doc = (f"PathTracedVolume GuideNet ({props['ptv.architecture']}, "
            f"{count_parameters(model)} parameters)")
     core = model.core

@@ -228,6 +228,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--resume", action="store_true", help="continue from <out>/last.pt")
     p.add_argument("--export-levels", type=int, default=0,
                    help="ship only the finest N grid levels in --export (default 0: all)")
+    p.add_argument("--export-default-levels", type=int, default=0,
+                   help="the level count the denoiser runs the --export file with unless told "
+                        "otherwise (ptv.default_levels; default 0: every shipped level)")
     p.add_argument("--export", type=Path, default=None,
                    help="write the best model to this .onnx file at the end")
     p.add_argument("--no-progress", action="store_true", help="no tqdm progress bars")
@@ -393,7 +396,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         else:
             extra["ptv.demodulate"] = "1" if args.demodulate else "0"
             path = export(model, args.export, channels, args.levels, extra_metadata=extra,
-                          use_levels=args.export_levels or None)
+                          use_levels=args.export_levels or None,
+                          default_levels=args.export_default_levels or None)
         print(f"exported {path} ({path.stat().st_size} bytes)")
     return 0
 

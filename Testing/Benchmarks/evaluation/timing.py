@@ -22,7 +22,7 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
     a = bench.args
     stage_rows = []
     for ds, st in results.get("stages", {}).items():
-        for m in ("ours 1 level", "ours"):
+        for m in ("ours every level", "ours"):
             stage_rows.append({"dataset": ds, "method": m, "trace": st["trace"],
                                **{k: st[m][k] for k in pb.STAGES},
                                "denoise_total": st[m]["ms"]})
