@@ -30,6 +30,16 @@ const std::vector<std::string> kFixedGuideChannels = { "albedo.r", "albedo.g", "
 constexpr double kMinimumGridCells = 16.0;
 
 /**
+ * Images of at most this many pixels run every level of the model, larger ones its default
+ * ("ptv.default_levels"). The coarser levels pay most on small images and cost little there:
+ * with the shipped model, on the 256^2 validation views all three levels gain 0.83 dB over one
+ * for about 1.4 ms, at 512^2 0.14 dB for 2.7 ms, at 1024^2 0.36 dB for 13 ms
+ * (Training/results/v2_validation.md, Testing/Benchmarks/results/denoiser.md).
+ * Training/ptv_training/bilateral_grid.py (automatic_levels) is the same rule.
+ */
+constexpr double kSmallImagePixels = 256.0 * 256.0;
+
+/**
  * How many of @a count levels (finest first; the model's default, "ptv.default_levels") a
  * @a width x @a height image uses when the level count is automatic: coarser levels whose grid
  * would have fewer than kMinimumGridCells cells over the image are dropped, the finest always
@@ -194,9 +204,11 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
     done = true;
     return true;
   }
+  const bool small = static_cast<double>(width) * static_cast<double>(height) <= kSmallImagePixels;
   const int levels = settings.Levels > 0
     ? std::min(settings.Levels, modelLevels)
-    : FittingLevels(this->Session.GetLevels(), this->Session.GetDefaultLevels(), width, height);
+    : FittingLevels(this->Session.GetLevels(),
+        small ? modelLevels : this->Session.GetDefaultLevels(), width, height);
   this->Levels = levels;
   this->Guides.resize(n * levels);
   this->Weights.resize(n * std::max(levels - 1, 0));

@@ -85,8 +85,9 @@ public:
 
   ///@{
   /**
-   * Grid levels: 0 (default) = the model's default ("ptv.default_levels", else all its levels;
-   * the shipped model: 1 of its 3), 3 with the fixed guide, the component count of given
+   * Grid levels: 0 (default) = automatic: on an image above 256 x 256 pixels the model's
+   * default ("ptv.default_levels", else all its levels; the shipped model: 1 of its 3), at or
+   * below that every level of the model; 3 with the fixed guide; the component count of given
    * "Guides"; 1..3 uses the model's finest ones, up to all it has (given guides must have as
    * many components).
    * With 0 and the network, a small image drops the model's coarser levels whose grid would

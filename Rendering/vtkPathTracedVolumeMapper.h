@@ -266,8 +266,9 @@ public:
 
   ///@{
   /**
-   * Bilateral-grid levels used by the denoiser: 0 (default) = the model's default (the shipped
-   * model: 1 of its 3), less those too coarse for a small image
+   * Bilateral-grid levels used by the denoiser: 0 (default) = automatic (the model's default
+   * above 256 x 256 pixels, the shipped model: 1 of its 3; every level at or below), less those
+   * too coarse for a small image
    * (vtkPTVDenoiser::SetNumberOfLevels); 1..3 = the finest, up to the model's.
    */
   vtkSetClampMacro(DenoiserNumberOfLevels, int, 0, 3);

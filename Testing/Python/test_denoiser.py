@@ -188,8 +188,9 @@ def test_cxx_matches_python_pipeline(passes, variant_models, variant, portable) 
 
 
 def test_model_default_levels(passes, tmp_path) -> None:
-    """export(default_levels=D): the C++ runs the finest D levels unless NumberOfLevels asks for
-    others (up to the model's), and D levels give exactly what NumberOfLevels = D gives."""
+    """export(default_levels=D): above 256^2 pixels the C++ runs the finest D levels unless
+    NumberOfLevels asks for others (up to the model's), exactly what NumberOfLevels = D gives;
+    at or below it every level (bilateral_grid.automatic_levels, the same rule)."""
     torch.manual_seed(6)
     channels = features.VOLUME_FEATURES
     net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8).eval()
@@ -197,13 +198,26 @@ def test_model_default_levels(passes, tmp_path) -> None:
     import onnx
     props = {p.key: p.value for p in onnx.load(str(path)).metadata_props}
     assert props["ptv.default_levels"] == "1" and props["ptv.levels"] == "4:4,8:8,16:16"
-    ok, out, den, messages = cxx_denoise(passes, str(path))
+    h, w = H_of(passes), next(iter(passes.values())).shape[1]
+    reps = (-(-257 // h), -(-257 // w))  # just above 256^2 pixels
+    large = {k: np.ascontiguousarray(np.tile(v, reps + (1,) * (v.ndim - 2)))
+             for k, v in passes.items()}
+    big = next(iter(large.values())).shape[:2]
+    assert big[0] * big[1] > 256 * 256
+    ok, out, den, messages = cxx_denoise(large, str(path))
     assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
     assert ", 1 levels" in den.GetStatus(), den.GetStatus()
-    ok1, out1, den1, _ = cxx_denoise(passes, str(path), NumberOfLevels=1)
+    ok1, out1, den1, _ = cxx_denoise(large, str(path), NumberOfLevels=1)
     assert ok1 and np.array_equal(out, out1)
-    ok3, out3, den3, _ = cxx_denoise(passes, str(path), NumberOfLevels=3)
+    ok3, out3, den3, _ = cxx_denoise(large, str(path), NumberOfLevels=3)
     assert ok3 and ", 3 levels" in den3.GetStatus() and not np.array_equal(out, out3)
+    expected = bilateral_grid.automatic_levels(LEVELS, 1, h, w)
+    assert h * w <= 256 * 256 and expected == bilateral_grid.fitting_levels(LEVELS, h, w)
+    ok, _, small, _ = cxx_denoise(passes, str(path))
+    assert ok and f", {expected} levels" in small.GetStatus(), small.GetStatus()
+    assert bilateral_grid.automatic_levels(LEVELS, 1, 256, 256) == 3
+    assert bilateral_grid.automatic_levels(LEVELS, 1, 256, 257) == 1
+    assert bilateral_grid.automatic_levels(LEVELS, 2, 1024, 1024) == 2
     with pytest.raises(ValueError, match="default_levels"):
         export(net, tmp_path / "bad.onnx", channels, levels=LEVELS, use_levels=2,
                default_levels=3)

@@ -40,6 +40,19 @@ MIN_GRID_CELLS = 16
 Tensor = torch.Tensor
 
 
+SMALL_IMAGE_PIXELS = 256 * 256
+
+
+def automatic_levels(levels: Sequence[Tuple[int, int]], default: int, height: int,
+                     width: int) -> int:
+    """The level count the C++ denoiser uses when none is asked for: every one of a model's
+    ``levels`` on an image of at most SMALL_IMAGE_PIXELS pixels, else its ``default``
+    (ptv.default_levels), less those too coarse for the image (:func:`fitting_levels`). The
+    coarser levels pay most on small images and cost little there (ptvDenoiser.cxx)."""
+    count = len(levels) if height * width <= SMALL_IMAGE_PIXELS else min(default, len(levels))
+    return fitting_levels(list(levels)[:count], height, width)
+
+
 def fitting_levels(levels: Sequence[Tuple[int, int]], height: int, width: int) -> int:
     """How many of a model's ``levels`` (finest first) an image of ``height`` x ``width``
     pixels uses when the level count is automatic: the coarser levels whose grid would have

@@ -39,7 +39,7 @@ from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
 from .data import chw, psnr  # noqa: E402
-from .bilateral_grid import fitting_levels  # noqa: E402
+from .bilateral_grid import automatic_levels  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
 from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
 from .scene import ensure_paths  # noqa: E402
@@ -85,12 +85,14 @@ def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence
 
 def torch_denoise(model: GuideNet, channels: Sequence[str], levels, clamp: float,
                   passes: Dict[str, np.ndarray], demodulate: bool = True,
-                  use_levels: Optional[int] = None) -> np.ndarray:
-    # As the C++ denoiser with its automatic level count: the model's (or use_levels) levels,
-    # less those too coarse for the frame (bilateral_grid.fitting_levels).
+                  use_levels: Optional[int] = None,
+                  default_levels: Optional[int] = None) -> np.ndarray:
+    # As the C++ denoiser with its automatic level count: the model's (or use_levels, the
+    # file's) levels, its default_levels on a large image, less those too coarse for the frame
+    # (bilateral_grid.automatic_levels).
     height, width = passes["Radiance"].shape[:2]
     count = use_levels if use_levels is not None else model.levels
-    count = fitting_levels(list(levels)[:count], height, width)
+    count = automatic_levels(list(levels)[:count], default_levels or count, height, width)
     with torch.no_grad():
         f = torch.from_numpy(build_features(passes, channels))[None]
         out, _, _ = run_model(model, f, chw(passes["Radiance"])[None],
@@ -165,8 +167,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     import onnx
     props = {p.key: p.value for p in onnx.load(str(args.model)).metadata_props}
     use_levels = len(props.get("ptv.levels", "").split(",")) if "ptv.levels" in props else None
-    if "ptv.default_levels" in props:
-        use_levels = int(props["ptv.default_levels"])
+    default_levels = int(props["ptv.default_levels"]) if "ptv.default_levels" in props else None
 
     rows: List[Dict[str, Any]] = []
     worst = 0.0
@@ -179,7 +180,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if not c["network_active"]:
                 raise RuntimeError(f"the network is not active: {c['status']}")
             t = torch_denoise(model, channels, levels, ck["clamp"], passes,
-                              ck.get("demodulate", True), use_levels)
+                              ck.get("demodulate", True), use_levels, default_levels)
             span = float(t.max() - t.min()) or 1.0
             diff = float(np.abs(c["output"] - t).max() / span)
             worst = max(worst, diff)
@@ -229,7 +230,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "levels": [list(level) for level in
                        levels[:len(props["ptv.levels"].split(",")) if "ptv.levels" in props
                               else len(levels)]],
-            "default_levels": use_levels or len(levels),
+            "default_levels": default_levels or use_levels or len(levels),
             "trained_levels": [list(level) for level in levels],
             "clamp": ck["clamp"],
             "demodulate": ck.get("demodulate", True),
