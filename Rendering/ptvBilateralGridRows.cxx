@@ -277,6 +277,21 @@ void SplatGridRowsKernel(
   }
 }
 
+/// Image row @a y's two grid rows (j0, j0 + 1) and their tent weights, per level.
+HWY_INLINE void SliceGridRows(const SliceInput& in, int y, const float* rows[][2], float* ty0,
+  float* ty1)
+{
+  for (int l = 0; l < in.NumberOfLevels; ++l)
+  {
+    const PushGrid& g = in.Levels[l];
+    const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * g.Bins * 4;
+    rows[l][0] = g.Cells + static_cast<std::size_t>(g.J0[y] + 1) * rowFloats;
+    rows[l][1] = rows[l][0] + rowFloats;
+    ty0[l] = g.Ty0[y];
+    ty1[l] = g.Ty1[y];
+  }
+}
+
 #if PTV_GRID_WIDE
 /// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a row0 (weight
 /// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero.
@@ -319,15 +334,7 @@ void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
     const float* rows[kMaxGridLevels][2] = {};
     float ty0[kMaxGridLevels] = {};
     float ty1[kMaxGridLevels] = {};
-    for (int l = 0; l < levels; ++l)
-    {
-      const PushGrid& g = in.Levels[l];
-      const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * g.Bins * 4;
-      rows[l][0] = g.Cells + static_cast<std::size_t>(g.J0[y] + 1) * rowFloats;
-      rows[l][1] = rows[l][0] + rowFloats;
-      ty0[l] = g.Ty0[y];
-      ty1[l] = g.Ty1[y];
-    }
+    SliceGridRows(in, y, rows, ty0, ty1);
     const std::size_t row = static_cast<std::size_t>(y) * in.Width;
     for (int x = 0; x < in.Width; ++x)
     {
@@ -393,15 +400,7 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
     const float* rows[kMaxGridLevels][2] = {};
     float ty0[kMaxGridLevels] = {};
     float ty1[kMaxGridLevels] = {};
-    for (int l = 0; l < levels; ++l)
-    {
-      const PushGrid& g = in.Levels[l];
-      const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * g.Bins * 4;
-      rows[l][0] = g.Cells + static_cast<std::size_t>(g.J0[y] + 1) * rowFloats;
-      rows[l][1] = rows[l][0] + rowFloats;
-      ty0[l] = g.Ty0[y];
-      ty1[l] = g.Ty1[y];
-    }
+    SliceGridRows(in, y, rows, ty0, ty1);
     const std::size_t row = static_cast<std::size_t>(y) * in.Width;
     for (int x = 0; x < in.Width; ++x)
     {
