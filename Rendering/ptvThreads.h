@@ -4,10 +4,11 @@
  *
  * Debian's VTK 9.2 runs vtkSMPTools loops on the Sequential backend by default, and its
  * STDThread backend starts and joins a new pool of threads in every For call (about 0.1 ms
- * here). A frame runs a dozen short loops (the denoiser's stages take 1-4 ms each at 512^2), so
- * the project's loops share one pool instead: its workers are started on first use, sleep on a
- * condition variable between loops (no spinning that would take cores from ONNX Runtime), and the
- * calling thread works too. Chunks are handed out in any order; every caller partitions its work
+ * here). A frame runs a dozen short loops (the denoiser's stages take 0.1-4 ms each at 512^2),
+ * so the project's loops share one pool instead: its workers are started on first use, poll for
+ * the next loop for 50 us and then sleep on a condition variable (no longer spinning that would
+ * take cores from ONNX Runtime), and the calling thread works too, polling as briefly for the
+ * workers' last chunks before it sleeps. Chunks are handed out in any order; every caller partitions its work
  * so that the result does not depend on which thread runs a chunk, so images are bit-identical
  * for any number of threads. One loop runs on the pool at a time: a loop started while the pool
  * is busy (another render thread, or a loop inside a loop) runs its chunks on its own thread.
