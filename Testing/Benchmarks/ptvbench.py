@@ -167,20 +167,22 @@ def bench_passes(dataset: str, size: int, ref_spp: int, cache: Path) -> Passes:
 
 
 # --- denoisers on captured passes ---------------------------------------------------------
-def model_levels(path: Union[str, Path] = "") -> int:
-    """A GuideNet model's number of grid levels (its ptv.levels metadata); "" = the shipped one."""
+def model_props(path: Union[str, Path] = "") -> Dict[str, str]:
+    """A model's ONNX metadata ("ptv.*"); "" = the shipped model."""
     import onnx
     model = onnx.load(str(path or SHIPPED_MODEL), load_external_data=False)
-    props = {p.key: p.value for p in model.metadata_props}
-    return len(props["ptv.levels"].split(","))
+    return {p.key: p.value for p in model.metadata_props}
+
+
+def model_levels(path: Union[str, Path] = "") -> int:
+    """A GuideNet model's number of grid levels (its ptv.levels metadata); "" = the shipped one."""
+    return len(model_props(path)["ptv.levels"].split(","))
 
 
 def model_default_levels(path: Union[str, Path] = "") -> int:
-    """How many levels the denoiser runs a model with by default (its ptv.default_levels, else
-    every level); "" = the shipped model."""
-    import onnx
-    model = onnx.load(str(path or SHIPPED_MODEL), load_external_data=False)
-    props = {p.key: p.value for p in model.metadata_props}
+    """How many levels the denoiser runs a model with by default on images above 256^2 pixels
+    (its ptv.default_levels, else every level); "" = the shipped model."""
+    props = model_props(path)
     return int(props.get("ptv.default_levels", len(props["ptv.levels"].split(","))))
 
 

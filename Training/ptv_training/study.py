@@ -156,9 +156,7 @@ def with_flag(flags: List[str], name: str, value: Any) -> List[str]:
 
 
 def with_channels(flags: List[str], channels: str) -> List[str]:
-    out = list(flags)
-    out[out.index("--channels") + 1] = channels
-    return out
+    return with_flag(flags, "--channels", channels)
 
 
 STUDIES["v2-features"] = [
