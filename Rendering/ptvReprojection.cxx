@@ -110,7 +110,7 @@ struct Reprojector
   const float* Albedo;
   const int* HitBegin; ///< per row: the first hit's x (width when none)
   const int* HitEnd;   ///< per row: past the last hit's x (0 when none)
-  // output
+  // output: Radiance and Alpha in place of the new frame's (each pixel reads only its own)
   float* OutRadiance;
   float* OutAlpha;
   float* OutCount;
@@ -138,23 +138,19 @@ struct Reprojector
   /**
    * The fraction c of previous pixel j that saw the surface at point @a p, the rest seeing the
    * background: its mean depth is c d + (1 - c) far (d: the point's distance from the previous
-   * camera) and its mean position c p (a miss stores 0), within @a tolerance. @a invSpan is
-   * 1 / (far - d) (> 0), @a most the largest c that depth tolerance allows. -1 when the pixel
-   * saw something else (a surface in front, or at another place).
+   * camera) and its mean position c p (a miss stores 0), within @a tolerance (given squared).
+   * @a invSpan is 1 / (far - d) (> 0), @a most the largest c that depth tolerance allows. -1
+   * when the pixel saw something else (a surface in front, or at another place). Written
+   * with selects, not branches: on noisy first events the outcomes are random, and mispredicted
+   * branches were most of this step's time.
    */
-  float Coverage(std::size_t j, Vec3 p, float invSpan, float most, float tolerance) const
+  float Coverage(std::size_t j, Vec3 p, float invSpan, float most, float tolerance2) const
   {
     const float c = (this->Prev.FarDistance - this->PrevDepth[j]) * invSpan;
-    if (!(c <= most))
-    {
-      return -1.f; // a surface in front of the point
-    }
-    if (c < 0.05f)
-    {
-      return 0.f; // the background
-    }
     const Vec3 off = Load3(this->PrevPosition, j) - p * c;
-    return LengthSquared(off) <= tolerance * tolerance ? std::min(c, 1.f) : -1.f;
+    const float there = LengthSquared(off) <= tolerance2 ? std::min(c, 1.f) : -1.f;
+    const float seen = c < 0.05f ? 0.f : there; // below 0.05: the background
+    return c <= most ? seen : -1.f;             // (not NaN and) no surface in front
   }
 
   /// Whether previous pixel j's albedo agrees with the new pixel's @a albedo (times the
@@ -162,8 +158,8 @@ struct Reprojector
   bool SameAlbedo(std::size_t j, Vec3 albedo) const
   {
     const Vec3 da = Load3(this->PrevAlbedo, j) - albedo;
-    return std::abs(da.x) <= kAlbedoDifference && std::abs(da.y) <= kAlbedoDifference &&
-      std::abs(da.z) <= kAlbedoDifference;
+    return (std::abs(da.x) <= kAlbedoDifference) & (std::abs(da.y) <= kAlbedoDifference) &
+      (std::abs(da.z) <= kAlbedoDifference);
   }
 
   /// The nearest depth of the hits among pixel (x, y)'s eight neighbours (0: none).
@@ -261,21 +257,20 @@ struct Reprojector
     float weight[4];
     std::size_t index[4];
     float total = 0.f;
+    const float tolerance2 = tolerance * tolerance;
     for (int k = 0; k < 4; ++k)
     {
       const int px = x0 + (k & 1), py = y0 + (k >> 1);
       weight[k] = ((k & 1) ? tx : 1.f - tx) * ((k >> 1) ? ty : 1.f - ty);
       index[k] = std::size_t(std::min(std::max(py, 0), height - 1)) * width +
         std::size_t(std::min(std::max(px, 0), width - 1));
-      bool same = px >= 0 && py >= 0 && px < width && py < height;
-      if (same)
-      {
-        const float c = this->Coverage(index[k], p, invSpan, most, tolerance);
-        // A hit needs the surface over most of the pixel; a miss beside it, not all of it (a
-        // pixel covered before is a disocclusion: the background shows through now).
-        same = hit ? c >= kHitCoverage && this->SameAlbedo(index[k], albedo * c)
-                   : c >= 0.f && c <= kMissCoverage;
-      }
+      const bool inside = (px >= 0) & (py >= 0) & (px < width) & (py < height);
+      const float c = this->Coverage(index[k], p, invSpan, most, tolerance2);
+      // A hit needs the surface over most of the pixel; a miss beside it, not all of it (a
+      // pixel covered before is a disocclusion: the background shows through now).
+      const bool same = inside &
+        (hit ? (c >= kHitCoverage) & this->SameAlbedo(index[k], albedo * c)
+             : (c >= 0.f) & (c <= kMissCoverage));
       weight[k] = same ? weight[k] : 0.f;
       total += weight[k];
     }
@@ -316,27 +311,38 @@ struct Reprojector
     return 2;
   }
 
-  /// No history: the new frame alone.
-  void Fresh(std::size_t i) const
-  {
-    std::copy_n(this->Radiance + 3 * i, 3, this->OutRadiance + 3 * i);
-    this->OutAlpha[i] = this->Alpha[i];
-    this->OutCount[i] = 1.f;
-  }
+  /// No history: the new frame alone (its Radiance and Alpha are the output already).
+  void Fresh(std::size_t i) const { this->OutCount[i] = 1.f; }
 };
 
-/// Rows [begin, end) of the frame; per row, the hits and the pixels that kept a history.
+/// Rows [begin, end) of the frame; per row, the hits and the pixels that kept a history. Only
+/// the pixels within one of the hits of the row and its two neighbours are looked at: the
+/// others are background (Pixel() would find neither a hit nor a hit beside them).
 inline void ReprojectRows(const Reprojector& r, int begin, int end, int* hits, int* reused)
 {
+  const int width = r.Cur.Width, height = r.Cur.Height;
   for (int y = begin; y < end; ++y)
   {
+    int first = width, last = 0; // the span of hits of rows y - 1 .. y + 1, widened by one
+    for (int py = std::max(y - 1, 0); py <= std::min(y + 1, height - 1); ++py)
+    {
+      if (r.HitBegin[py] < r.HitEnd[py])
+      {
+        first = std::min(first, std::max(r.HitBegin[py] - 1, 0));
+        last = std::max(last, std::min(r.HitEnd[py] + 1, width));
+      }
+    }
+    first = std::min(first, last); // no hits: the whole row is background
+    float* count = r.OutCount + std::size_t(y) * width;
+    std::fill(count, count + first, 1.f);
     int h = 0, kept = 0;
-    for (int x = 0; x < r.Cur.Width; ++x)
+    for (int x = first; x < last; ++x)
     {
       const int kind = r.Pixel(x, y);
       h += kind > 0 ? 1 : 0;
       kept += kind > 1 ? 1 : 0;
     }
+    std::fill(count + last, count + width, 1.f);
     hits[y] = h;
     reused[y] = kept;
   }
@@ -371,7 +377,6 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
     this->Counts.assign(n, static_cast<float>(std::max(previousFrames, 1)));
   }
   this->NewCounts.resize(n);
-  this->Scratch.Resize(width, height);
 
   Reprojector r(previous, current);
   r.Step = std::isfinite(stepWorld) ? std::max(stepWorld, 0.0f) : 0.0f;
@@ -386,8 +391,8 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   r.Alpha = frame.Data(PassAlpha);
   r.Depth = frame.Data(PassDepth);
   r.Albedo = frame.Data(PassAlbedo);
-  r.OutRadiance = this->Scratch.Data(PassRadiance);
-  r.OutAlpha = this->Scratch.Data(PassAlpha);
+  r.OutRadiance = frame.Data(PassRadiance);
+  r.OutAlpha = frame.Data(PassAlpha);
   r.OutCount = this->NewCounts.data();
 
   this->HitBegin.assign(static_cast<std::size_t>(height), width);
@@ -421,14 +426,9 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   std::vector<int> reusedRows(static_cast<std::size_t>(height), 0);
   ParallelFor(threads, 0, height, 8,
     [&](int begin, int end) { rows(r, begin, end, hitRows.data(), reusedRows.data()); });
-  accumulated.Swap(PassRadiance, this->Scratch);
-  accumulated.Swap(PassAlpha, this->Scratch);
   for (int p = 0; p < kTracedPassCount; ++p)
   {
-    if (p != PassRadiance && p != PassAlpha)
-    {
-      accumulated.Swap(p, frame); // the view's own first frame
-    }
+    accumulated.Swap(p, frame); // Radiance, Alpha: the blend; the others: the view's first frame
   }
   this->Counts.swap(this->NewCounts);
   const int hits = std::accumulate(hitRows.begin(), hitRows.end(), 0);

@@ -61,8 +61,7 @@ public:
   /**
    * Carry @a accumulated (seen by @a previous; @a previousFrames frames in every pixel unless
    * HasHistory()) into the view of @a current, and let @a frame (traced by @a current, same
-   * size; its passes other than Radiance and Alpha are taken, leaving it unspecified) join it as
-   * in the file comment. @a stepWorld is the march's step (for the tolerance).
+   * size; its passes are taken, leaving it unspecified) join it as in the file comment. @a stepWorld is the march's step (for the tolerance).
    */
   void Reproject(const CameraRays& previous, const CameraRays& current, float stepWorld,
     int maximumHistory, int previousFrames, PassBuffers& accumulated, PassBuffers& frame,
@@ -85,7 +84,6 @@ private:
   std::vector<float> Counts;
   std::vector<float> NewCounts;
   std::vector<int> HitBegin, HitEnd; ///< per row: the span of the new frame's hits
-  PassBuffers Scratch;
   double Reused = 0.0;
 };
 }
