@@ -13,6 +13,8 @@ them alike: times are medians over rounds and ratios are medians of per-round ra
 demodulation) and slice, and given in ns per pixel. PSNR/SSIM (scikit-image, data_range 1)
 against the reference, all images tone-mapped clip(max(0,x)^(1/2.2),0,1) (docs/measuring.md).
 Run it on an idle machine: nothing else (no build, training or second benchmark) on the cores.
+Each cell's summary gives the hypervisor's steal during its rounds (/proc/stat): on a virtual
+machine, time the host gave to other guests slows the 2-thread rows most.
 """
 from __future__ import annotations
 
@@ -101,7 +103,8 @@ def main() -> int:
         for size in args.sizes:
             p = pb.bench_passes(dataset, size, args.ref_spp, args.cache)
             check = pb.quality(p["Reference"], p["Reference/2"])[0]
-            methods = measure(p, args, levels, default)
+            with pb.CpuSteal() as steal:
+                methods = measure(p, args, levels, default)
             for name, m in methods.items():
                 psnr, ssim = pb.quality(p["Reference"], m["image"])
                 rows.append({"dataset": dataset, "size": size, "method": name,
@@ -117,13 +120,15 @@ def main() -> int:
             threads = pb.paired_ratio(methods[f"{level_name(default)}, 1 thread"]["times"], full)
             ratios.append({"dataset": dataset, "size": size, "oidn_fast_over_ours": speedup,
                            "one_over_two_threads": threads,
-                           "psnr_ours_minus_oidn_fast": ours["psnr"] - oidn["psnr"]})
+                           "psnr_ours_minus_oidn_fast": ours["psnr"] - oidn["psnr"],
+                           "host_steal": steal.fraction})
+            stolen = "n/a" if steal.fraction is None else f"{100 * steal.fraction:.1f} %"
             summary.append(
                 f"{dataset} {size}², {default} level{'s' if default > 1 else ''} (the model's "
                 f"default): OIDN fast / ours = {speedup:.1f}x (target >= 10x); PSNR "
                 f"ours - OIDN fast = {ours['psnr'] - oidn['psnr']:+.2f} dB (target >= -0.5); "
                 f"1 -> 2 threads {threads:.2f}x (target >= 1.7x); reference check (ref/2 vs "
-                f"ref) {check:.1f} dB")
+                f"ref) {check:.1f} dB; host steal during the rounds {stolen}")
     first = next(r for r in rows if "status" in r)
     print(f"\n{os.cpu_count()} cores; median of {args.repeats} rounds after a warm-up round, "
           "every method once per round; ratios are medians of per-round ratios; reference "

@@ -70,6 +70,37 @@ def interleaved(calls: Mapping[str, Callable[[], Any]], repeats: int,
     return out
 
 
+def _cpu_ticks() -> Optional[Tuple[int, int]]:
+    """(steal, all) CPU ticks of the whole machine from /proc/stat's ``cpu`` line; None where
+    there is none (not Linux)."""
+    try:
+        with open("/proc/stat", encoding="ascii") as f:
+            fields = f.readline().split()
+    except OSError:
+        return None
+    if len(fields) < 9 or fields[0] != "cpu":
+        return None
+    ticks = [int(v) for v in fields[1:9]]  # user nice system idle iowait irq softirq steal
+    return ticks[7], sum(ticks)
+
+
+class CpuSteal:
+    """Hypervisor steal over a ``with`` block: the share of this machine's CPU time that the
+    host gave to other guests while ours wanted to run (/proc/stat). A virtual machine's
+    2-thread timings suffer most from it (a parallel loop waits for its slowest thread), so the
+    benchmarks print it beside their ratios. ``fraction`` is None where it cannot be read."""
+
+    def __enter__(self) -> "CpuSteal":
+        self.fraction: Optional[float] = None
+        self._start = _cpu_ticks()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        end = _cpu_ticks()
+        if self._start is not None and end is not None and end[1] > self._start[1]:
+            self.fraction = (end[0] - self._start[0]) / (end[1] - self._start[1])
+
+
 def save_results(rows: Any, table: str, json_path: Optional[Path], markdown_path: Optional[Path],
                  title: str, script: str) -> None:
     """Prints ``table`` and writes ``rows`` as JSON and ``table`` as a markdown page (``title``,
