@@ -13,6 +13,7 @@ only the named factor differs; runs go in ``<runs>/<study>_<name>`` and are reus
     python Training/ptv_training/study.py v2-features --steps 1500 --jobs 2
     python Training/ptv_training/study.py v2-loo --steps 1500 --jobs 2
     python Training/ptv_training/study.py v2-cpu --steps 600 --jobs 2
+    python Training/ptv_training/study.py v3-loo --steps 600 --jobs 2
 
 ``ablation``, ``loo``, ``unet`` and ``cpu`` ran on the first data set (``.cache/training/v1``:
 head, stent and concrete with jittered presets, 128², 1024-spp references; L1 loss), which is
@@ -22,6 +23,8 @@ MSE), always with the shipped architecture (hidden 16, 5 x 5, stride 2, 8 output
 levels): ``v2-features`` asks which auxiliary features and which loss pay, ``v2-loo`` trains once
 without each volume and tests on its held-out views. ``v2-cpu`` is ``cpu`` again on the second data
 set: the shipped network against a 3 x 3 second conv, 3 x 3 throughout and 1/4 resolution.
+``v3-loo`` is ``v2-loo`` with the architecture shipped since that study (hidden 32, 3 x 3
+throughout, stride 2, 8 outputs, PAPER_10, 3 levels), on the same data.
 
 ``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
 denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
@@ -75,10 +78,13 @@ class Experiment:
 BASE = ["--channels", "VOLUME_FEATURES", "--hidden", "8", "--kernel", "5", "--no-demodulate"]
 # The shipped configuration, chosen by the ablation (cheapest within 0.2 dB of the best).
 SHIP = ["--channels", "PAPER_10", "--hidden", "20", "--kernel", "5", "--no-demodulate"]
-# Runs shared between studies (trained once): experiment name -> run folder.
-SHARED = {"vol_h8_L3": "study_vol_h8_L3", "paper_h20_L3": "study_ablation_paper_h20_L3",
-          "all": "study_v2-features_paper10",  # v2-loo's in-domain run is v2-features' paper10
-          "h16_k5_s2": "study_v2-features_paper10"}  # and v2-cpu's shipped architecture
+# Runs shared between studies (trained once): (study, experiment) -> run folder; study "" is
+# every study on the first data set.
+SHARED = {("", "vol_h8_L3"): "study_vol_h8_L3",
+          ("", "paper_h20_L3"): "study_ablation_paper_h20_L3",
+          # v2-loo's in-domain run is v2-features' paper10, and so is v2-cpu's first architecture
+          ("v2-loo", "all"): "study_v2-features_paper10",
+          ("v2-cpu", "h16_k5_s2"): "study_v2-features_paper10"}
 
 
 def cpu_candidate(hidden: int, kernel: int, stride: int, out_channels: int,
@@ -176,11 +182,22 @@ V2_CPU_CANDIDATES = ((16, 5, 5, 2), (16, 5, 3, 2), (16, 3, 3, 2), (16, 5, 3, 4))
 STUDIES["v2-cpu"] = [v2_cpu_candidate(*c) for c in V2_CPU_CANDIDATES]
 
 
-def v2_loo(datasets: Sequence[str]) -> List[Experiment]:
-    """``v2-loo``: the shipped architecture on every dataset, and once without each."""
-    return [Experiment("all", "every dataset (in-domain)", V2_SHIP)] + [
-        Experiment(f"no_{d}", f"trained without {d}", V2_SHIP + ["--exclude", d])
+# The architecture shipped since the v2-cpu study (d251c34): hidden 32, 3 x 3 throughout.
+V3_SHIP = with_flag(with_flag(V2_SHIP, "--hidden", 32), "--kernel", 3)
+# The leave-one-out studies: each trains ``flags`` on every dataset, and once without each.
+LOO_FLAGS = {"v2-loo": V2_SHIP, "v3-loo": V3_SHIP}
+
+
+def leave_one_out(datasets: Sequence[str], flags: List[str]) -> List[Experiment]:
+    """A leave-one-out study: ``flags`` on every dataset, and once without each."""
+    return [Experiment("all", "every dataset (in-domain)", flags)] + [
+        Experiment(f"no_{d}", f"trained without {d}", flags + ["--exclude", d])
         for d in datasets]
+
+
+def on_second_data(study: str) -> bool:
+    """Whether a study runs on the second data set (relative-MSE loss) rather than the first."""
+    return study.startswith(("v2-", "v3-"))
 
 
 def data_datasets(data: Path) -> List[str]:
@@ -190,11 +207,12 @@ def data_datasets(data: Path) -> List[str]:
 
 
 def default_data(study: str) -> Path:
-    return DATA_V2 if study.startswith("v2-") else DATA_V1
+    return DATA_V2 if on_second_data(study) else DATA_V1
 
 
 def run_dir(runs: Path, study: str, name: str) -> Path:
-    return runs / SHARED.get(name, f"study_{study}_{name}")
+    key = (study if on_second_data(study) else "", name)
+    return runs / SHARED.get(key, f"study_{study}_{name}")
 
 
 def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
@@ -204,7 +222,7 @@ def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
     cmd = [sys.executable, str(TRAIN), "--out", str(out), "--max-steps", str(args.steps),
            "--minutes", "600", "--threads", "1", "--seed", str(args.seed), "--no-progress",
            *exp.args, "--data", str(args.data)]
-    if not args.study.startswith("v2-"):
+    if not on_second_data(args.study):
         cmd += ["--loss", "l1"]  # the first studies' loss (before train.py's relmse default)
     if (out / "last.pt").is_file():
         cmd.append("--resume")
@@ -376,15 +394,16 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                                 description="Train and tabulate one study: ablation, "
                                             "leave-one-out, U-Net or CPU cost (runs are reused "
                                             "when already trained).")
-    p.add_argument("study", choices=sorted([*STUDIES, "v2-loo"]), help="which study")
+    p.add_argument("study", choices=sorted([*STUDIES, *LOO_FLAGS]), help="which study")
     p.add_argument("--steps", type=int, default=800, help="training steps per run (default 800)")
     p.add_argument("--seed", type=int, default=0, help="seed of every run (default 0)")
     p.add_argument("--jobs", type=int, default=2,
                    help="runs trained at once, one thread each (default 2)")
     p.add_argument("--data", type=Path, default=None,
-                   help=f"views folder (default: {DATA_V2} for the v2-* studies, else {DATA_V1})")
+                   help=f"views folder (default: {DATA_V2} for the v2-*/v3-* studies, else "
+                        f"{DATA_V1})")
     p.add_argument("--holdout", nargs="*", default=None, metavar="DATASET",
-                   help="v2-loo: the datasets to leave out one at a time (default: all)")
+                   help="v2-loo, v3-loo: the datasets to leave out one at a time (default: all)")
     p.add_argument("--repeats", type=int, default=9, help="C++ timing repeats (unet study)")
     p.add_argument("--runs", type=Path, default=DEFAULT_RUNS, help="run folders go here")
     p.add_argument("--results", type=Path, default=DEFAULT_RESULTS,
@@ -397,8 +416,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
 
     args = parse_args(argv)
     args.data = args.data or default_data(args.study)
-    experiments = v2_loo(args.holdout or data_datasets(args.data)) \
-        if args.study == "v2-loo" else STUDIES[args.study]
+    experiments = leave_one_out(args.holdout or data_datasets(args.data), LOO_FLAGS[args.study]) \
+        if args.study in LOO_FLAGS else STUDIES[args.study]
     outs = [run_dir(args.runs, args.study, e.name) for e in experiments]
     start = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
