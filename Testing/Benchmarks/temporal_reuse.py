@@ -253,16 +253,20 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
         alone = o.run(path, True, 1, tf_change=tf_change)
     paired = sequence_row(o.dataset, case, "ours, no history (same samples)", alone["shown"],
                           refs)
+    paired["raw_psnr_per_frame"] = [psnr_vs(f, x) for f, x in zip(alone["raw"], refs)]
+    paired["raw_psnr_mean"] = float(np.mean(paired["raw_psnr_per_frame"]))
     rows.append(paired)
     for h in histories:
         r = o.run(path, True, h, tf_change=tf_change)
         row = sequence_row(o.dataset, case, f"ours + reprojection (M={h})", r["shown"], refs)
-        row["raw_psnr_mean"] = float(np.mean([psnr_vs(f, x) for f, x in zip(r["raw"], refs)]))
+        row["raw_psnr_per_frame"] = [psnr_vs(f, x) for f, x in zip(r["raw"], refs)]
+        row["raw_psnr_mean"] = float(np.mean(row["raw_psnr_per_frame"]))
         row["never_below"] = min(x - y for x, y in zip(row["psnr_per_frame"],
                                                        paired["psnr_per_frame"]))
         row["history_max"] = r["history_max"]
         if tf_change is not None:
             row["history_max_at_change"] = r["history_max"][tf_change]
+            row["gains_around_change"] = gains_around(row, paired, tf_change)
         row["reuse_mean"] = float(np.mean(r["reuse"][1:])) if len(path) > 1 else 0.0
         rows.append(row)
         moving = slice(1, None)
@@ -270,6 +274,22 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
                       "render_ms": statistics.median(r["render_ms"][moving]),
                       "trace_ms": statistics.median(r["trace_ms"][moving]),
                       "reproject_ms": statistics.median(r["reproject_ms"][moving])})
+
+
+def gains_around(row: Dict[str, Any], alone: Dict[str, Any], change: int
+                 ) -> Dict[str, Dict[str, float]]:
+    """What the history adds over the same samples without it (dB, raw mean and shown image),
+    over the moving frames before a change and over those after the frame of the change."""
+    out = {}
+    for part, frames in (("before", range(1, change)),
+                         ("after", range(change + 1, len(row["psnr_per_frame"])))):
+        raw = [row["raw_psnr_per_frame"][i] - alone["raw_psnr_per_frame"][i] for i in frames]
+        shown = [row["psnr_per_frame"][i] - alone["psnr_per_frame"][i] for i in frames]
+        if not shown:  # too short a path for this part
+            raw = shown = [float("nan")]
+        out[part] = {"raw_mean": float(np.mean(raw)), "shown_mean": float(np.mean(shown)),
+                     "shown_worst": float(np.min(shown)), "frames": len(frames)}
+    return out
 
 
 def fade_study(o: Orbit, a: argparse.Namespace) -> List[Dict[str, Any]]:
@@ -374,9 +394,18 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
                   f"{r['tpsnr_min']:.2f} | {psnr} | "
                   f"{r.get('raw_psnr_mean', float('nan')):.2f} | "
                   f"{r.get('never_below', float('nan')):+.2f} |")
-    md += [f"\n{r['dataset']}, {r['case']}, {r['method']}: longest history in the frame of the "
-           f"change {r['history_max_at_change']:.0f} (1 = dropped)." for r in rows
-           if "history_max_at_change" in r]
+    for r in rows:
+        if "history_max_at_change" not in r:
+            continue
+        g = r["gains_around_change"]
+        md.append(f"\n{r['dataset']}, {r['case']}, {r['method']}: longest history in the frame "
+                  f"of the change {r['history_max_at_change']:.0f} (1 = dropped). Over the same "
+                  "samples without history, the history adds to the raw mean / to the shown "
+                  f"image: before the change {g['before']['raw_mean']:+.2f} / "
+                  f"{g['before']['shown_mean']:+.2f} dB (worst frame "
+                  f"{g['before']['shown_worst']:+.2f}), after it {g['after']['raw_mean']:+.2f}"
+                  f" / {g['after']['shown_mean']:+.2f} dB (worst frame "
+                  f"{g['after']['shown_worst']:+.2f}).")
     md += ["", f"History fade (12-view orbits, M = {a.default_history}; PSNR against the "
            "same run with every history dropped, frames 1-11; 180° = no fade):", "",
            "| dataset | ° per frame | fade angle | PSNR vs converged | gain (mean) | "
@@ -426,7 +455,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     a.out.mkdir(parents=True, exist_ok=True)
     chart(a.out / "temporal_reuse.png", rows, a)
     table = [{k: v for k, v in r.items()
-              if k not in ("psnr_per_frame", "tpsnr_per_pair", "history_max")}
+              if k not in ("psnr_per_frame", "tpsnr_per_pair", "history_max",
+                           "raw_psnr_per_frame", "gains_around_change")}
              for r in rows]
     write_text(a.out / "temporal_reuse.json", json.dumps(
         {"command": command, "args": {k: (str(v) if isinstance(v, Path) else v)
