@@ -210,9 +210,17 @@ def default_data(study: str) -> Path:
     return DATA_V2 if on_second_data(study) else DATA_V1
 
 
-def run_dir(runs: Path, study: str, name: str) -> Path:
+def run_dir(runs: Path, study: str, name: str, seed: int = 0) -> Path:
+    """The run folder of an experiment; seeds other than 0 get folders of their own."""
+    if seed:
+        return runs / f"study_{study}_{name}_seed{seed}"
     key = (study if on_second_data(study) else "", name)
     return runs / SHARED.get(key, f"study_{study}_{name}")
+
+
+def results_stem(study: str, seed: int) -> str:
+    """Training/results/<stem>.md/.json: the study's name, with the seed unless it is 0."""
+    return f"{study}_seed{seed}" if seed else study
 
 
 def train(exp: Experiment, out: Path, args: argparse.Namespace) -> float:
@@ -401,7 +409,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                                             "when already trained).")
     p.add_argument("study", choices=sorted([*STUDIES, *LOO_FLAGS]), help="which study")
     p.add_argument("--steps", type=int, default=800, help="training steps per run (default 800)")
-    p.add_argument("--seed", type=int, default=0, help="seed of every run (default 0)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="seed of every run (default 0); another seed trains runs of its own and "
+                        "writes <study>_seed<N>.md/.json")
     p.add_argument("--jobs", type=int, default=2,
                    help="runs trained at once, one thread each (default 2)")
     p.add_argument("--data", type=Path, default=None,
@@ -423,7 +433,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args.data = args.data or default_data(args.study)
     experiments = leave_one_out(args.holdout or data_datasets(args.data), LOO_FLAGS[args.study]) \
         if args.study in LOO_FLAGS else STUDIES[args.study]
-    outs = [run_dir(args.runs, args.study, e.name) for e in experiments]
+    outs = [run_dir(args.runs, args.study, e.name, args.seed) for e in experiments]
     start = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         futures = [pool.submit(train, e, o, args) for e, o in zip(experiments, outs)]
@@ -449,8 +459,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "over each dataset's held-out views; MACs per full-resolution pixel.\n\n"
             + table(results) + "\n"
             + verdict(args.study, results))
-    atomic_write(args.results / f"{args.study}.md", text)
-    atomic_write(args.results / f"{args.study}.json",
+    stem = results_stem(args.study, args.seed)
+    atomic_write(args.results / f"{stem}.md", text)
+    atomic_write(args.results / f"{stem}.json",
                  json.dumps({"command": command, "steps": args.steps, "seed": args.seed,
                              "results": results}, indent=1) + "\n")
     print(text)
