@@ -13,6 +13,8 @@
 //  - the history is dropped when the transfer function or a scene light changes (the frame is
 //    bit-identical to a fresh mapper's first frame), not when a camera light moves with the
 //    camera;
+//  - with background around the volume, pixels with no hit beside them start afresh and the
+//    misses on the edge of the neighbouring rows' hits keep their history;
 //  - the same camera path and seed give the same frames, with 1 or 2 threads.
 #include "ptvTestCheck.h"
 #include "ptvTestMetrics.h"
@@ -191,6 +193,68 @@ void TestTranslation(double pixels)
       Num(bound) + ")");
 }
 
+/// The volume in the middle of the image: a pixel with no hit in its 3 x 3 neighbourhood
+/// starts afresh (history 1, alpha 0). The step looks only at the pixels within the hull of
+/// the neighbouring rows' hits widened by one pixel; the misses on that hull's edge (beside a
+/// hit diagonally) are looked at, so some of them keep their history.
+void TestBackgroundAroundTheVolume()
+{
+  Scene s;
+  s.Renderer->GetActiveCamera()->Zoom(0.4); // undo the 2x zoom: background all around
+  s.Frames(8);
+  s.Pan(1.0);
+  s.Frames(1);
+  const std::vector<float> depth = s.Pass("Depth");
+  const std::vector<float> history = s.Pass("HistoryLength");
+  const std::vector<float> alpha = s.Pass("Alpha");
+  const float far = *std::max_element(depth.begin(), depth.end()); // what misses store
+  auto hit = [&](int x, int y)
+  { return x >= 0 && y >= 0 && x < kSize && y < kSize && depth[y * kSize + x] < 0.999f * far; };
+  std::vector<int> first(kSize, kSize), last(kSize, -1); // each row's outermost hits
+  for (int y = 0; y < kSize; ++y)
+  {
+    for (int x = 0; x < kSize; ++x)
+    {
+      first[y] = hit(x, y) ? std::min(first[y], x) : first[y];
+      last[y] = hit(x, y) ? std::max(last[y], x) : last[y];
+    }
+  }
+  int background = 0, fresh = 0, edge = 0, kept = 0;
+  for (int y = 0; y < kSize; ++y)
+  {
+    int lo = kSize, hi = -1; // the hull of rows y - 1 .. y + 1
+    for (int py = std::max(y - 1, 0); py <= std::min(y + 1, kSize - 1); ++py)
+    {
+      lo = std::min(lo, first[py]);
+      hi = std::max(hi, last[py]);
+    }
+    for (int x = 0; x < kSize; ++x)
+    {
+      bool near = false;
+      for (int d = 0; d < 9; ++d)
+      {
+        near = near || hit(x + d % 3 - 1, y + d / 3 - 1);
+      }
+      const int p = y * kSize + x;
+      if (!near)
+      {
+        ++background;
+        fresh += history[p] == 1.0f && alpha[p] == 0.0f ? 1 : 0;
+      }
+      else if (hi >= 0 && (x == lo - 1 || x == hi + 1))
+      {
+        ++edge;
+        kept += history[p] > 1.0f ? 1 : 0;
+      }
+    }
+  }
+  Check(background > 200 && fresh == background,
+    "background pixels start afresh: " + Num(fresh) + " of " + Num(background));
+  Check(edge > 20 && 2 * kept >= edge, // measured: 64 of 64 (0 without the widening)
+    "misses on the edge of the hits' hull are reprojected: " + Num(kept) + " of " + Num(edge) +
+      " kept a history");
+}
+
 void TestHistoryCapAndStillAfterMove()
 {
   Scene s;
@@ -306,6 +370,7 @@ int TestPTVTemporalReprojection(int, char*[])
   TestStillCameraUnchanged();
   TestTranslation(3.0);
   TestTranslation(2.5);
+  TestBackgroundAroundTheVolume();
   TestHistoryCapAndStillAfterMove();
   TestTurnFade();
   TestHistoryDropped();
