@@ -217,10 +217,15 @@ def pan_path(frames: int) -> List[Dict[str, float]]:
     return [{"azimuth": 0.0, "pan": 0.02 * i} for i in range(frames)]
 
 
+def psnr_per_frame(frames: Sequence[np.ndarray], refs: Sequence[np.ndarray]) -> List[float]:
+    """PSNR of each frame against its converged view."""
+    return [psnr_vs(f, r) for f, r in zip(frames, refs)]
+
+
 def sequence_row(dataset: str, case: str, method: str, frames: Sequence[np.ndarray],
                  refs: Sequence[np.ndarray]) -> Dict[str, Any]:
     tp = tpsnr(frames)
-    per = [psnr_vs(f, r) for f, r in zip(frames, refs)]
+    per = psnr_per_frame(frames, refs)
     return {"dataset": dataset, "case": case, "method": method, "frames": len(frames),
             "tpsnr_mean": float(np.mean(tp)) if tp else float("nan"),
             "tpsnr_min": float(np.min(tp)) if tp else float("nan"),
@@ -253,13 +258,13 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
         alone = o.run(path, True, 1, tf_change=tf_change)
     paired = sequence_row(o.dataset, case, "ours, no history (same samples)", alone["shown"],
                           refs)
-    paired["raw_psnr_per_frame"] = [psnr_vs(f, x) for f, x in zip(alone["raw"], refs)]
+    paired["raw_psnr_per_frame"] = psnr_per_frame(alone["raw"], refs)
     paired["raw_psnr_mean"] = float(np.mean(paired["raw_psnr_per_frame"]))
     rows.append(paired)
     for h in histories:
         r = o.run(path, True, h, tf_change=tf_change)
         row = sequence_row(o.dataset, case, f"ours + reprojection (M={h})", r["shown"], refs)
-        row["raw_psnr_per_frame"] = [psnr_vs(f, x) for f, x in zip(r["raw"], refs)]
+        row["raw_psnr_per_frame"] = psnr_per_frame(r["raw"], refs)
         row["raw_psnr_mean"] = float(np.mean(row["raw_psnr_per_frame"]))
         row["never_below"] = min(x - y for x, y in zip(row["psnr_per_frame"],
                                                        paired["psnr_per_frame"]))
