@@ -402,6 +402,46 @@ def verdict(study: str, results: List[Dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def loo_gaps(results: List[Dict[str, Any]]) -> Dict[str, float]:
+    """A leave-one-out study's unseen-volume gaps: no_<d> on d minus the in-domain run on d."""
+    by = {r["name"]: r for r in results}
+    ref = by["all"]["psnr_1spp"]
+    return {d: by[f"no_{d}"]["psnr_1spp"][d] - ref[d] for d in ref if f"no_{d}" in by}
+
+
+def seeds_summary(study: str, seeds: Sequence[int], results_dir: Path) -> Dict[str, Any]:
+    """Each seed's unseen-volume gaps, read from ``<study>[_seed<N>].json``, and their mean.
+
+    One seed's training noise is of the size of the target (the verdict lines show it on the
+    volumes each run saw), so the mean over seeds is the figure to compare with the target."""
+    gaps: Dict[int, Dict[str, float]] = {}
+    for seed in seeds:
+        path = results_dir / f"{results_stem(study, seed)}.json"
+        if not path.is_file():
+            raise SystemExit(f"study.py: {path} is missing; run the study with --seed {seed} "
+                             "first")
+        gaps[seed] = loo_gaps(json.loads(path.read_text())["results"])
+    datasets = sorted(set.intersection(*(set(g) for g in gaps.values())))
+    mean = {d: sum(gaps[s][d] for s in seeds) / len(seeds) for d in datasets}
+    rows = ["| unseen volume | " + " | ".join(f"seed {s}" for s in seeds)
+            + " | mean | within 0.5 dB |", "|---|" + "---|" * (len(seeds) + 2)]
+    rows += [f"| {d} | " + " | ".join(f"{gaps[s][d]:+.2f}" for s in seeds)
+             + f" | {mean[d]:+.2f} | {'yes' if mean[d] >= -0.5 else 'no'} |" for d in datasets]
+    worst = min(datasets, key=lambda d: mean[d])
+    sources = "`, `".join(f"{results_stem(study, s)}.json" for s in seeds)
+    text = (f"# GuideNet {study} study over {len(seeds)} seeds\n\n"
+            f"Command: `python Training/ptv_training/study.py {study} --seeds-summary "
+            f"{' '.join(map(str, seeds))}` (reads `{sources}`; trains nothing).\n\n"
+            "Validation PSNR of the run trained without each volume, on that volume, minus the "
+            "in-domain run's of the same seed (dB, 1 spp, torch, 3 levels); target: within "
+            "0.5 dB.\n\n" + "\n".join(rows) + "\n\n"
+            f"- {sum(mean[d] >= -0.5 for d in datasets)} of {len(datasets)} unseen volumes are "
+            f"within 0.5 dB on the mean of the seeds; the worst is {worst} ({mean[worst]:+.2f}; "
+            f"its seeds {min(gaps[s][worst] for s in seeds):+.2f} to "
+            f"{max(gaps[s][worst] for s in seeds):+.2f}).\n")
+    return {"text": text, "gaps": {str(s): gaps[s] for s in seeds}, "mean": mean}
+
+
 def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p = argparse.ArgumentParser(prog="python Training/ptv_training/study.py",
                                 description="Train and tabulate one study: ablation, "
@@ -412,6 +452,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--seed", type=int, default=0,
                    help="seed of every run (default 0); another seed trains runs of its own and "
                         "writes <study>_seed<N>.md/.json")
+    p.add_argument("--seeds-summary", type=int, nargs="+", default=None, metavar="SEED",
+                   help="leave-one-out studies: train nothing, read the results of these seeds "
+                        "and write <study>_seeds.md/.json (each seed's unseen-volume gaps and "
+                        "their mean)")
     p.add_argument("--jobs", type=int, default=2,
                    help="runs trained at once, one thread each (default 2)")
     p.add_argument("--data", type=Path, default=None,
@@ -430,6 +474,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from tqdm import tqdm
 
     args = parse_args(argv)
+    if args.seeds_summary:
+        if args.study not in LOO_FLAGS:
+            raise SystemExit(f"study.py: --seeds-summary needs a leave-one-out study "
+                             f"({', '.join(sorted(LOO_FLAGS))}), not {args.study}")
+        summary = seeds_summary(args.study, args.seeds_summary, args.results)
+        text = summary.pop("text")
+        atomic_write(args.results / f"{args.study}_seeds.md", text)
+        atomic_write(args.results / f"{args.study}_seeds.json",
+                     json.dumps({"seeds": args.seeds_summary, **summary}, indent=1) + "\n")
+        print(text)
+        return 0
     args.data = args.data or default_data(args.study)
     experiments = leave_one_out(args.holdout or data_datasets(args.data), LOO_FLAGS[args.study]) \
         if args.study in LOO_FLAGS else STUDIES[args.study]
