@@ -1,4 +1,5 @@
 #include "ptvBilateralGridCpu.h"
+#include "ptvGridDemodulateRows.h"
 
 #include "ptvKernelDispatch.h"
 #include "ptvThreads.h"
@@ -149,23 +150,12 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
     {
       for (vtkIdType y = rowBegin; y < rowEnd; ++y)
       {
-        double sum = 0.0;
-        std::size_t lit = 0;
-        for (int x = 0; x < width; ++x)
-        {
-          const std::size_t p = static_cast<std::size_t>(y) * width + x;
-          const Vec3 d = Demodulate(radiance + 3 * p, albedo ? albedo + 3 * p : nullptr);
-          float* cell = demod + 4 * p;
-          cell[0] = d.x;
-          cell[1] = d.y;
-          cell[2] = d.z;
-          cell[3] = 1.f;
-          const float lum = Luminance(d);
-          sum += static_cast<double>(lum);
-          lit += lum > 0.f ? 1 : 0;
-        }
-        rowLuminance[y] = sum;
-        rowLit[y] = lit;
+        const std::size_t p = static_cast<std::size_t>(y) * width;
+        const DemodulatedRow row = DemodulateRow(radiance + 3 * p,
+          albedo ? albedo + 3 * p : nullptr, static_cast<std::size_t>(width), demod + 4 * p,
+          portable);
+        rowLuminance[y] = row.Luminance;
+        rowLit[y] = row.Lit;
       }
     });
   double total = 0.0;

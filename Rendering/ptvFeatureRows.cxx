@@ -33,7 +33,7 @@ HWY_INLINE VF Gamma(DF d, VF v)
   const auto x = hn::Min(hn::Max(v, zero), one);
   const auto positive = hn::Gt(x, zero);
   const auto safe = hn::IfThenElse(positive, x, one); // Log needs x > 0
-  const auto y = hn::CallExp(d, hn::Mul(hn::Set(d, 1.0f / 2.2f), hn::CallLog(d, safe)));
+  const auto y = hn::Exp(d, hn::Mul(hn::Set(d, 1.0f / 2.2f), hn::Log(d, safe)));
   return hn::IfThenElseZero(positive, hn::Min(y, one));
 }
 

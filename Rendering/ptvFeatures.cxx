@@ -323,9 +323,20 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
               AccumulateRow(scratch, s, width, dy == 0, portable, row);
             }
             const float area = static_cast<float>(s * s);
-            for (int j = 0; j < reducedW; ++j)
+            if ((s & (s - 1)) == 0) // a power of two: its reciprocal's product is the division
             {
-              row[j] = row[j] / area;
+              const float inverseArea = 1.0f / area;
+              for (int j = 0; j < reducedW; ++j)
+              {
+                row[j] = row[j] * inverseArea;
+              }
+            }
+            else
+            {
+              for (int j = 0; j < reducedW; ++j)
+              {
+                row[j] = row[j] / area;
+              }
             }
           }
         }

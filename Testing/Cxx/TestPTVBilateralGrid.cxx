@@ -12,11 +12,16 @@
 //      agrees with the dispatched one (AVX-512/AVX2/SSE4) within 1e-5 of the output range (the
 //      dispatched build contracts multiply-adds into FMAs: one rounding less per term), and a
 //      frame after a different frame equals the same frame on a fresh driver bit for bit (cells
-//      a frame does not touch keep stale values that must never reach the result).
+//      a frame does not touch keep stale values that must never reach the result);
+//  (g) the demodulation row kernel gives the scalar definition's pixels bit for bit on every
+//      target (NaN, +-Inf, negative and huge values, rows of 1 to 37 pixels, with and without
+//      albedo), and its luminance sum and lit count within float rounding of the scalar ones.
 // The semantics themselves are checked against the torch reference and a brute-force evaluation
 // of the definitions in Testing/Python/test_bilateral_grid.py.
 #include "ptvTestCheck.h"
 #include "ptvBilateralGridCpu.h"
+#include "ptvGridDemodulateRows.h"
+#include "Kernels/ptvBilateralGrid.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -501,6 +506,62 @@ void TestNoAllocationGrowth()
 }
 }
 
+// (g) the demodulation row kernel against the scalar definitions.
+void TestDemodulateRows()
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uniform(-0.5f, 3.0f);
+  const float specials[] = { std::numeric_limits<float>::quiet_NaN(),
+    std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), -1.0f,
+    0.0f, 3e38f, 1e31f, 1e-30f };
+  int mismatches = 0;
+  double worstSum = 0.0;
+  for (int width = 1; width <= 37; ++width)
+  {
+    std::vector<float> radiance(3 * width), albedo(3 * width);
+    for (int i = 0; i < 3 * width; ++i)
+    {
+      radiance[i] = rng() % 5 == 0 ? specials[rng() % 8] : uniform(rng);
+      albedo[i] = rng() % 5 == 0 ? specials[rng() % 8] : uniform(rng) / 3.0f;
+    }
+    for (bool demodulate : { false, true })
+    {
+      const float* a = demodulate ? albedo.data() : nullptr;
+      double sum = 0.0;
+      std::size_t lit = 0;
+      std::vector<float> expected(4 * width);
+      for (int x = 0; x < width; ++x)
+      {
+        const ptv::Vec3 d = ptv::Demodulate(radiance.data() + 3 * x, a ? a + 3 * x : nullptr);
+        const float cell[4] = { d.x, d.y, d.z, 1.0f };
+        std::copy(cell, cell + 4, expected.data() + 4 * x);
+        const float lum = ptv::Luminance(d);
+        sum += lum;
+        lit += lum > 0.f ? 1 : 0;
+      }
+      for (bool portable : { false, true })
+      {
+        std::vector<float> got(4 * width + 1, -7.0f); // one sentinel past the row
+        const ptv::DemodulatedRow row =
+          ptv::DemodulateRow(radiance.data(), a, width, got.data(), portable);
+        mismatches += std::memcmp(got.data(), expected.data(), 4 * width * sizeof(float)) != 0;
+        Check(got[4 * width] == -7.0f, "demodulate: wrote past the row");
+        Check(row.Lit == lit, "demodulate: lit count " + std::to_string(row.Lit) + ", expected " +
+            std::to_string(lit));
+        // Summed in another order: each of the <= 37 float terms rounds once more, at most.
+        const double err = std::fabs(row.Luminance - sum);
+        worstSum = std::max(worstSum, err / std::max(sum, 1e-30));
+        Check(err <= 37 * 6e-8 * std::max(std::fabs(sum), 1e-30) + 1e-30,
+          "demodulate: luminance sum " + std::to_string(row.Luminance) + ", expected " +
+            std::to_string(sum));
+      }
+    }
+  }
+  std::cout << "demodulate rows: " << mismatches << " rows differ from the scalar definition; "
+            << "worst relative luminance-sum difference " << worstSum << "\n";
+  Check(mismatches == 0, "demodulate: pixels differ from the scalar definition");
+}
+
 int TestPTVBilateralGrid(int, char*[])
 {
   TestConstantImage();
@@ -509,6 +570,7 @@ int TestPTVBilateralGrid(int, char*[])
   TestOddSizesFinite();
   TestNoAllocationGrowth();
   TestPortableKernelsAndReuse();
+  TestDemodulateRows();
   if (failures)
   {
     std::cerr << failures << " check(s) failed\n";
