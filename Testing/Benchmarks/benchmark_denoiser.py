@@ -10,8 +10,8 @@ HDR colour + albedo + normal) denoise the same radiance. Every method runs once 
 first, then our portable-kernel row, so that none of the rows the targets read follows OIDN's
 winding-down threads), one warm-up round and then --repeats timed rounds, so a slow spell of a shared machine slows all of
 them alike: times are medians over rounds and ratios are medians of per-round ratios. The
-1 -> 2 thread ratio is then taken again in rounds of its own (the 2-thread and the 1-thread
-row, no OIDN): in the rounds with OIDN the 2-thread row ran 1.5-2.5 ms slower at 512^2 and the
+1 -> 2 thread ratio is also taken in rounds of its own (the 2-thread and the 1-thread row, no
+OIDN; half of them before the shared rounds, half after): in the rounds with OIDN the 2-thread row ran 1.5-2.5 ms slower at 512^2 and the
 1-thread row did not change; both figures are printed. Ours is split into features, GuideNet (incl. the guide upsampling), splat (incl.
 demodulation) and slice, and given in ns per pixel. PSNR/SSIM (scikit-image, data_range 1)
 against the reference, all images tone-mapped clip(max(0,x)^(1/2.2),0,1) (docs/measuring.md).
@@ -80,12 +80,17 @@ def measure(p: pb.Passes, args: argparse.Namespace, levels: int,
     portable = f"{level_name(default)}, portable kernels"
     for name in [portable] + [n for n in ours if n != portable]:
         calls[name] = (lambda o=ours[name]: o.execute(copy=False))
-    runs = pb.interleaved(calls, args.repeats, {name: o.stages for name, o in ours.items()})
-    # The thread ratio in rounds of its own: in the rounds above, the 2-thread row ran 1.5-2.5 ms
+    # The thread ratio in rounds of its own: in the shared rounds the 2-thread row ran 1.5-2.5 ms
     # slower at 512^2 than in rounds without OIDN while the 1-thread row did not change
-    # (docs/measuring.md), so OIDN's threads, not ours, set that ratio there.
-    pair = [level_name(default), f"{level_name(default)}, 1 thread"]
-    alone = pb.interleaved({name: calls[name] for name in pair}, args.repeats)
+    # (docs/measuring.md), so OIDN's threads, not ours, set that ratio there. Half of those
+    # rounds run before the shared ones and half after, so that one slow spell of the host
+    # (which takes a core from the 2-thread call, not from the 1-thread one) cannot fill them all.
+    pair = {name: calls[name] for name in
+            (level_name(default), f"{level_name(default)}, 1 thread")}
+    before = pb.interleaved(pair, args.repeats // 2)
+    runs = pb.interleaved(calls, args.repeats, {name: o.stages for name, o in ours.items()})
+    after = pb.interleaved(pair, args.repeats - args.repeats // 2)
+    alone = {name: {"times": before[name]["times"] + after[name]["times"]} for name in pair}
     methods: Dict[str, Dict[str, Any]] = {"noisy 1 spp": {"ms": 0.0, "image": p["Radiance"],
                                                           "times": []}}
     for name in list(ours) + [n for n in runs if n not in ours]:  # table order: ours, OIDN
@@ -145,7 +150,8 @@ def main() -> int:
                 f"ref) {check:.1f} dB; host steal during the rounds {stolen}")
     first = next(r for r in rows if "status" in r)
     print(f"\n{os.cpu_count()} cores; median of {args.repeats} rounds after a warm-up round, "
-          "every method once per round (and the 1 -> 2 thread pair in rounds of its own); "
+          "every method once per round (and the 1 -> 2 thread pair in rounds of its own, "
+          "half before and half after those); "
           "ratios are medians of per-round ratios; reference "
           f"{args.ref_spp} spp; model: {first['status']}; grid kernels: {first['kernels']}")
     print("| dataset | size | method | ms | ns/pixel | features | GuideNet | splat | slice "
