@@ -173,8 +173,8 @@ def header(a: argparse.Namespace, data: Mapping[str, Any]) -> List[str]:
         f"| git commit | {info['git']} |",
         f"| denoiser | {data['denoiser_status']}; model {info['model']} |",
         f"| timings | median of {a.repeats} repeats after a warm-up, threads "
-        f"{threads}; 1-spp trace times of Table 1: median "
-        f"of {3 * a.repeats} |",
+        f"{threads}; Table 1: every denoiser right after a 1-spp trace, all once per round, "
+        f"median of {table1.table1_rounds(a)} rounds |",
         f"| sizes | Table 1 / temporal {a.size}², stress {a.stress_size}² (+ odd sizes), "
         f"references {a.ref_spp} spp (stress {a.stress_ref_spp}, {a.big_size} "
         f"{a.big_ref_spp}) |",

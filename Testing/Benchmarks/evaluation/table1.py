@@ -65,12 +65,9 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
                                              images[f"{max(a.sweep)} spp"]),
                                             (f"reference {a.ref_spp} spp", d["ref"])],
                            box=(200, 200))
-        # timings at view 0, all methods in this run
-        t_trace = bench.scenes.trace_ms(bench.view_spec(ds, 0), 3 * a.repeats)  # the load varies
+        # timings at view 0, all methods in the same rounds
         p0 = {n: bench.view_data(ds, 0)[f"{n}@1"] for n in pb.PASSES}
-        den = {m: pb.run_ours(p0, lv, a.model, a.repeats, a.threads)
-               for m, lv in ((EVERY, pb.model_levels(a.model)), ("ours", 0))}
-        den.update({f"OIDN {q}": pb.run_oidn(p0, q, a.repeats) for q in ("fast", "balanced")})
+        t_trace, den = timed_rounds(bench, ds, p0, table1_rounds(a))
         stages[ds] = {"trace": t_trace, **{m: {k: den[m][k] for k in pb.STAGES + ("ms",)}
                                            for m in (EVERY, "ours")}}
         rows: Dict[str, Dict[str, Any]] = {}
@@ -93,6 +90,51 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
     return {"stages": stages, "reference_check": reference_check,
             "table1": [r for r in chart_rows if r["in_table"]], "speedup": speedups,
             "table1_per_view": per_view, "psnr_time": chart_rows}
+
+
+def table1_rounds(args: argparse.Namespace) -> int:
+    """Timed rounds of Table 1: 9 x --repeats (45 by default, about 5 s per dataset at 256^2),
+    so that a slow spell of the host, which lasts seconds on this VM, cannot fill half of them
+    (docs/measuring.md)."""
+    return 9 * args.repeats
+
+
+def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds: int
+                 ) -> Tuple[float, Dict[str, Dict[str, Any]]]:
+    """The 1-spp trace (a fresh frame, the tracer's own time) and every denoiser on view 0's
+    passes in the same rounds (pb.interleaved: a slow spell of the shared machine slows them
+    alike), one warm-up round, then ``rounds``: (median trace ms, per denoiser the row of
+    pb.run_ours / pb.run_oidn with medians over the rounds). Every denoiser runs right after
+    a trace, as in a frame: the trace leaves the caches to the volume, and a denoiser timed
+    after another denoiser would find its own buffers warm."""
+    import statistics
+
+    a = bench.args
+    scene = bench.scenes.scene(bench.view_spec(ds, 0))
+    seeds = iter(range(500000, 500000 + 4 * (rounds + 1)))
+    traced: List[float] = []
+    ours = {m: pb.Ours(lv, a.model, a.threads)
+            for m, lv in ((EVERY, pb.model_levels(a.model)), ("ours", 0))}
+    for o in ours.values():
+        o.set_passes(passes)
+    denoisers = {f"OIDN {q}": (lambda q=q: pb.oidn(passes, q)) for q in ("fast", "balanced")}
+    denoisers.update({m: (lambda o=o: o.execute(copy=False)) for m, o in ours.items()})
+    calls: Dict[str, Any] = {}
+    for m, call in denoisers.items():
+        calls[f"trace before {m}"] = lambda: traced.append(scene.render(next(seeds), 1)[0])
+        calls[m] = call
+    runs = pb.interleaved(calls, rounds, {m: o.stages for m, o in ours.items()})
+    den: Dict[str, Dict[str, Any]] = {}
+    for m, run in runs.items():
+        if m.startswith("trace"):
+            continue
+        row: Dict[str, Any] = {"ms": statistics.median(run["times"]),
+                               "image": np.array(run["result"])}
+        if m in ours:
+            row.update({k: statistics.median(e[k] for e in run["extra"]) for k in pb.STAGES})
+            row.update(status=ours[m].status(), kernels=ours[m].kernel_target())
+        den[m] = row
+    return statistics.median(traced[len(denoisers):]), den  # without the warm-up round's
 
 
 def speedup(sweep: Sequence[Mapping[str, Any]], method: Mapping[str, Any],
@@ -190,8 +232,9 @@ def markdown(a: argparse.Namespace, summary: Sequence[Mapping[str, Any]],
           f"independent seed. Time per frame: N spp = N × the median 1-spp trace time; "
           f"denoisers = 1-spp trace + the median denoise time (ours: vtkPTVDenoiser "
           f"with the shipped model; OIDN: pyoidn RT filter, HDR colour + albedo + normal), "
-          f"all on the same 1-spp passes, view 0, median of {a.repeats} after a warm-up "
-          f"(the trace: median of {3 * a.repeats} fresh frames).",
+          f"all on the same 1-spp passes, view 0; every denoiser right after a 1-spp trace (a "
+          f"fresh frame, as in a frame loop), all of them once per round, median of "
+          f"{table1_rounds(a)} rounds after a warm-up round.",
           ""]
     md += ["Reference convergence: PSNR of the first half (ref/2 spp) against the full "
            "reference, per view: " + "; ".join(
