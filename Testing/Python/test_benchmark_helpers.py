@@ -4,6 +4,7 @@ from /proc/stat. Plain Python (no VTK, no display)."""
 from __future__ import annotations
 
 import sys
+import time
 from pathlib import Path
 from typing import List, Optional, Tuple
 
@@ -34,7 +35,11 @@ def test_cpu_steal_reads_proc_stat() -> None:
     if not Path("/proc/stat").exists():
         pytest.fail("/proc/stat is missing: the project's machines are Linux")
     with pb.CpuSteal() as steal:
-        sum(i * i for i in range(200000))  # some CPU time, so the tick count moves
+        # 100 ms of CPU time: /proc/stat counts in 10 ms ticks per CPU, so the total moves
+        # by about 10 per busy CPU (a fixed amount of work took under one tick on the CI run).
+        end = time.monotonic() + 0.1
+        while time.monotonic() < end:
+            sum(i * i for i in range(1000))
     assert steal.fraction is not None and 0.0 <= steal.fraction <= 1.0
 
 
