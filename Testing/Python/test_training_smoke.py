@@ -24,6 +24,20 @@ import onnx  # noqa: F401
 import torch
 
 
+def test_cosine_learning_rate() -> None:
+    """--lr-schedule cosine: the rate falls from --lr to 1 % of it at --max-steps along a cosine
+    (half-way: the mean of the two), never rises, and the schedule needs --max-steps."""
+    from ptv_training import train
+
+    rates = [train.cosine_rate(1e-3, k, 100) for k in range(0, 121)]
+    assert rates[0] == pytest.approx(1e-3, rel=1e-12)
+    assert rates[50] == pytest.approx(0.5 * (1e-3 + 1e-5), rel=1e-12)
+    assert rates[100] == pytest.approx(1e-5, rel=1e-12) and rates[120] == rates[100]
+    assert all(b <= a for a, b in zip(rates, rates[1:]))
+    with pytest.raises(SystemExit, match="needs --max-steps"):
+        train.main(["--out", "/nonexistent/run", "--lr-schedule", "cosine"])
+
+
 def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> None:
     volume_path("head")  # fails (or skips) clearly when the data is not fetched
     from ptv_training import evaluate, exr_io, generate, train
@@ -101,7 +115,8 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     # The same pipeline for a model trained without demodulation and for the U-Net baseline:
     # exported, loaded in C++, and equal to torch there too.
     from ptv_training.unet import UNet
-    for extra in (["--no-demodulate"], ["--arch", "unet", "--width", "4"]):
+    for extra in (["--no-demodulate", "--lr-schedule", "cosine", "--level-counts", "1,3"],
+                  ["--arch", "unet", "--width", "4"]):
         run = tmp_path / ("run_" + extra[-1].strip("-"))
         model_file = run.with_suffix(".onnx")
         assert train.main(["--data", str(data), "--out", str(run), "--val-per-dataset", "1",
@@ -128,3 +143,23 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
         span = float(expected.max() - expected.min()) or 1.0
         assert np.isfinite(result["output"]).all()
         assert np.abs(result["output"] - expected).max() <= 1e-4 * span, extra
+        if "cosine" in extra:  # two steps of two: the rate of the second is the floor's mean
+            rates = [float(r.split(",")[10]) for r in (run / "log.csv").read_text().splitlines()[1:]]
+            assert rates[-1] == pytest.approx(train.cosine_rate(1e-3, 1, 2), rel=1e-6)
+
+    # compare.py: the runs at 1 and 2 levels on the validation view and on the report's Table-1
+    # views (tiny, a 4-spp reference), every method a finite PSNR in both tables.
+    from ptv_training import compare
+    out = tmp_path / "compare"
+    assert compare.main(["--data", str(data), "--run", str(tmp_path / "run"),
+                         str(tmp_path / "run_1,3"), "--levels", "1", "2",
+                         "--paper-views", "12", "--paper-reference-spp", "4",
+                         "--paper-cache", str(tmp_path / "paper"), "--out", str(out)]) == 0
+    table = out.with_suffix(".md").read_text()
+    rows = json.loads(out.with_suffix(".json").read_text())["rows"]
+    methods = {r["method"] for r in rows}
+    assert {"run, 1 level", "run, 2 levels", "run_1,3, 1 level",
+            "OIDN RT fast"} <= methods
+    assert {r["dataset"] for r in rows} >= {"head", "Table 1 stent 12²", "Table 1 concrete 12²"}
+    assert all(np.isfinite(r["psnr"]) for r in rows)
+    assert "| mean 12² |" in table and len(list((tmp_path / "paper").glob("*.npz"))) == 6

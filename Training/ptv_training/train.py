@@ -18,8 +18,10 @@ against the validation views' converged references.
 GuideNet's ``--stride`` s runs the network on s x s average-pooled features and upsamples its
 output bilinearly (``guidenet.py``); ``--out-channels`` pads its output for ONNX Runtime.
 Adam (``--lr``, default 1e-3: a short run; the paper uses 1e-4 for long ones), halved after
-``--lr-patience`` epochs without a better validation PSNR, gradient norm clipped to
-``--clip-grad``. The last ``--val-per-dataset`` views of each dataset are held out;
+``--lr-patience`` epochs without a better validation PSNR (``--lr-schedule plateau``, default)
+or lowered along a cosine to 1 % of ``--lr`` at ``--max-steps`` (``--lr-schedule cosine``,
+step by step, so that the last epochs settle instead of jumping around the optimum), gradient
+norm clipped to ``--clip-grad``. The last ``--val-per-dataset`` views of each dataset are held out;
 after every epoch the validation PSNR (tone-mapped, scikit-image, data_range 1) of every held-out
 (view, spp) is logged to ``log.csv``; the best epoch (mean validation PSNR over all held-out
 samples) is kept in ``best.pt`` with PNGs of its guides/weights on a validation view.
@@ -89,6 +91,13 @@ def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Te
                   weights if n > 1 else None,
                   levels=levels, clamp=clamp)
     return out, guides, weights
+
+
+def cosine_rate(base: float, step: int, total: int, floor: float = 0.01) -> float:
+    """The learning rate of ``step`` (0-based) of ``total`` on a cosine from ``base`` down to
+    ``floor * base`` (``--lr-schedule cosine``)."""
+    t = min(max(step / max(total, 1), 0.0), 1.0)
+    return base * (floor + (1.0 - floor) * 0.5 * (1.0 + math.cos(math.pi * t)))
 
 
 def training_loss(output: torch.Tensor, reference: torch.Tensor, kind: str) -> torch.Tensor:
@@ -213,6 +222,16 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--crop", type=int, default=0,
                    help="random square crop size (0 = whole views, default)")
     p.add_argument("--lr", type=float, default=1e-3, help="Adam learning rate (default 1e-3)")
+    p.add_argument("--level-counts", default="",
+                   help="level dropout: each step runs the grid with the finest N levels, N "
+                        "drawn uniformly from this comma-separated list (e.g. 1,3), as the C++ "
+                        "does with fewer levels, so that the model is trained for each count it "
+                        "runs with (the default count on large images is ptv.default_levels); "
+                        "default: every level, always")
+    p.add_argument("--lr-schedule", choices=("plateau", "cosine"), default="plateau",
+                   help="plateau: halve the rate after --lr-patience epochs without a better "
+                        "validation PSNR (default); cosine: lower it along a cosine to 1%% of "
+                        "--lr at --max-steps (needs --max-steps)")
     p.add_argument("--lr-patience", type=int, default=4,
                    help="halve the learning rate after this many epochs without a better "
                         "validation PSNR (0 = constant; default 4; floor 1e-5)")
@@ -241,6 +260,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     from tqdm import tqdm
 
     args = parse_args(argv)
+    level_counts = [int(n) for n in args.level_counts.split(",") if n.strip()]
+    if any(not 1 <= n <= len(args.levels) for n in level_counts):
+        raise SystemExit(f"--level-counts {args.level_counts}: each count must be 1 to "
+                         f"{len(args.levels)} (the levels trained)")
+    if args.lr_schedule == "cosine" and args.max_steps <= 0:
+        raise SystemExit("--lr-schedule cosine needs --max-steps")
     torch.set_num_threads(max(1, args.threads))
     channels = resolve_channels(args.channels)
     spps = [int(s) for s in args.spp.split(",") if s.strip()]
@@ -331,7 +356,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 y, x = (int(v) for v in rng.integers(0, f.shape[-1] - args.crop + 1, 2))
                 sl = (Ellipsis, slice(y, y + args.crop), slice(x, x + args.crop))
                 f, r, a, ref = f[sl], r[sl], a[sl], ref[sl]
-            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate)
+            if args.lr_schedule == "cosine":
+                for group in optimizer.param_groups:
+                    group["lr"] = cosine_rate(args.lr, state["steps"], args.max_steps)
+            use_levels = None
+            if level_counts and isinstance(model, GuideNet):
+                use_levels = level_counts[int(rng.integers(0, len(level_counts)))]
+            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate,
+                                     use_levels)
             loss = training_loss(result, ref, args.loss)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
@@ -357,7 +389,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                "val_psnr_4spp": round(ev.get("psnr_4spp", math.nan), 4),
                "noisy_psnr_1spp": round(ev.get("noisy_1spp", math.nan), 4),
                "lr": optimizer.param_groups[0]["lr"], "best": int(is_best)}
-        if args.lr_patience > 0:
+        if args.lr_patience > 0 and args.lr_schedule == "plateau":
             scheduler.step(ev["psnr"])
         state["log"].append(row)
         with open(log_path, "a", newline="") as fh:
