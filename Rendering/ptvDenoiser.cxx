@@ -32,9 +32,11 @@ constexpr double kMinimumGridCells = 16.0;
 /**
  * Images of at most this many pixels run every level of the model, larger ones its default
  * ("ptv.default_levels"). The coarser levels pay most on small images and cost little there:
- * with the shipped model, on the 256^2 validation views all three levels gain 0.83 dB over one
- * for about 1 ms (1.8 -> 2.8 ms, evaluate.py), at 512^2 0.14 dB for 3 ms, at 1024^2 0.36 dB
- * for 14 ms (Training/results/v2_validation.md, Testing/Benchmarks/results/denoiser.md).
+ * with the shipped model (trained for both counts: train.py --level-counts 1,3), on the 256^2
+ * validation views all three levels gain 0.43 dB over one and 0.5-0.9 dB on the held-out
+ * transfer functions, for about 1 ms (Training/results/v2_validation.md, level_dropout*);
+ * on the 512^2 and 1024^2 benchmark frames they add little for 1.5x the time
+ * (Testing/Benchmarks/results/denoiser_pareto.csv).
  * Training/ptv_training/bilateral_grid.py (automatic_levels) is the same rule.
  */
 constexpr double kSmallImagePixels = 256.0 * 256.0;
