@@ -103,13 +103,14 @@ def paper_view(dataset: str, size: int, camera: int, reference_spp: int,
                cache: Path) -> Dict[str, object]:
     """A Table-1 view: its 1-spp passes ("inputs") and reference, rendered once into ``cache``."""
     from pathtracedvolume.atomic import atomic_path
+    from pathtracedvolume.scene import paper_preset
 
     from .scene import Scene
 
     path = cache / f"{dataset}_{size}_{camera}_{reference_spp}.npz"
     if not path.is_file():
         azimuth, elevation = PAPER_CAMERAS[camera]
-        view = {"dataset": dataset, "preset": f"{dataset.capitalize()} Two-Band (paper)",
+        view = {"dataset": dataset, "transfer_function": paper_preset(dataset),
                 "azimuth": azimuth, "elevation": elevation}
         scene = Scene(dataset, (size, size))
         scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=1)
