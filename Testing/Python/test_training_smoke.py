@@ -163,3 +163,31 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert {r["dataset"] for r in rows} >= {"head", "Table 1 stent 12²", "Table 1 concrete 12²"}
     assert all(np.isfinite(r["psnr"]) for r in rows)
     assert "| mean 12² |" in table and len(list((tmp_path / "paper").glob("*.npz"))) == 6
+
+    # level_probe.py: the blend and each level alone on both views; a level forced alone is
+    # exactly the grid run with that model's finest level only (run_model, use_levels=1).
+    from pathtracedvolume.metrics import psnr
+    from ptv_training import level_probe
+    from ptv_training.data import chw
+    from ptv_training.train import run_model
+    files = [data / r["file"] for r in manifest["views"]]
+    probe = tmp_path / "probe"
+    assert level_probe.main(["--run", str(tmp_path / "run"), "--views", *map(str, files),
+                             "--out", str(probe)]) == 0
+    probed = json.loads(probe.with_suffix(".json").read_text())["rows"]
+    assert [r["view"] for r in probed] == [f.name for f in files]
+    assert all(np.isfinite(r[m]) for r in probed for m in level_probe.METHODS)
+    ck = torch.load(tmp_path / "run" / "best.pt")
+    net = GuideNet(**ck["config"])
+    net.load_state_dict(ck["model"])
+    net.eval()
+    view = exr_io.read_view(files[0])
+    inputs = view["inputs"][1]
+    with torch.no_grad():
+        feats = torch.from_numpy(build_features(inputs, ck["channels"]))[None]
+        alone, _, _ = run_model(net, feats, chw(inputs["Radiance"])[None],
+                                chw(inputs["Albedo"])[None], [tuple(l) for l in ck["levels"]],
+                                ck["clamp"], ck["demodulate"], 1)
+    assert probed[0]["level 1 alone"] == pytest.approx(
+        psnr(alone[0].permute(1, 2, 0).numpy(), view["reference"]), abs=1e-4)
+    assert "| run | head | 2 |" in probe.with_suffix(".md").read_text()
