@@ -108,9 +108,6 @@ struct Reprojector
   const float* Alpha;
   const float* Depth;
   const float* Albedo;
-  const float* Current = nullptr; ///< a copy of the new frame's Radiance (neighbours' read)
-  bool Nearest = false;
-  float Clip = 0.f;               ///< history clamped to mean +- Clip sigma of 3x3 (0: off)
   const int* HitBegin; ///< per row: the first hit's x (width when none)
   const int* HitEnd;   ///< per row: past the last hit's x (0 when none)
   // output: Radiance and Alpha in place of the new frame's (each pixel reads only its own)
@@ -282,19 +279,6 @@ struct Reprojector
       this->Fresh(i);
       return 1;
     }
-    if (this->Nearest)
-    {
-      int best = 0;
-      for (int k = 1; k < 4; ++k)
-      {
-        best = weight[k] > weight[best] ? k : best;
-      }
-      for (int k = 0; k < 4; ++k)
-      {
-        weight[k] = k == best ? 1.f : 0.f;
-      }
-      total = 1.f;
-    }
     const float norm = 1.f / total;
     float count = 0.f;
     for (int k = 0; k < 4; ++k)
@@ -314,10 +298,6 @@ struct Reprojector
       h[2] += wk * r[2];
       h[3] += wk * this->PrevAlpha[index[k]];
     }
-    if (this->Clip > 0.f)
-    {
-      this->ClipToNeighbours(x, y, h);
-    }
     // 4. the new frame joins it
     const float a = 1.f / (count + 1.f);
     const float* f = this->Radiance + 3 * i;
@@ -329,33 +309,6 @@ struct Reprojector
     this->OutAlpha[i] = h[3] + (this->Alpha[i] - h[3]) * a;
     this->OutCount[i] = count + 1.f;
     return 2;
-  }
-
-  /// Clamp history @a h (RGB) to the new frame's 3x3 mean +- Clip standard deviations.
-  void ClipToNeighbours(int x, int y, float* h) const
-  {
-    float sum[3] = { 0.f, 0.f, 0.f }, sq[3] = { 0.f, 0.f, 0.f };
-    int n = 0;
-    for (int py = std::max(y - 1, 0); py <= std::min(y + 1, this->Cur.Height - 1); ++py)
-    {
-      for (int px = std::max(x - 1, 0); px <= std::min(x + 1, this->Cur.Width - 1); ++px)
-      {
-        const float* f = this->Current + 3 * (std::size_t(py) * this->Cur.Width + px);
-        for (int c = 0; c < 3; ++c)
-        {
-          sum[c] += f[c];
-          sq[c] += f[c] * f[c];
-        }
-        ++n;
-      }
-    }
-    const float inv = 1.f / float(n);
-    for (int c = 0; c < 3; ++c)
-    {
-      const float mean = sum[c] * inv;
-      const float sigma = std::sqrt(std::max(sq[c] * inv - mean * mean, 0.f));
-      h[c] = std::min(std::max(h[c], mean - this->Clip * sigma), mean + this->Clip * sigma);
-    }
   }
 
   /// No history: the new frame alone (its Radiance and Alpha are the output already).
@@ -438,16 +391,6 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   r.Alpha = frame.Data(PassAlpha);
   r.Depth = frame.Data(PassDepth);
   r.Albedo = frame.Data(PassAlbedo);
-  if (const char* value = std::getenv("PTV_HISTORY_CLIP"))
-  {
-    r.Clip = static_cast<float>(std::atof(value));
-  }
-  r.Nearest = std::getenv("PTV_HISTORY_NEAREST") != nullptr;
-  if (r.Clip > 0.f)
-  {
-    this->Current.assign(frame.Data(PassRadiance), frame.Data(PassRadiance) + 3 * n);
-    r.Current = this->Current.data();
-  }
   r.OutRadiance = frame.Data(PassRadiance);
   r.OutAlpha = frame.Data(PassAlpha);
   r.OutCount = this->NewCounts.data();
