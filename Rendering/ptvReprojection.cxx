@@ -108,13 +108,6 @@ struct Reprojector
   const float* Alpha;
   const float* Depth;
   const float* Albedo;
-  bool Fringe = false;
-  bool AcceptAll = false;
-  float FocusDistance = 0.f;
-  bool Features = false;
-  const float* PrevPass[kTracedPassCount] = {};
-  const float* CurPass[kTracedPassCount] = {};
-  float* OutPass[kTracedPassCount] = {};
   const int* HitBegin; ///< per row: the first hit's x (width when none)
   const int* HitEnd;   ///< per row: past the last hit's x (0 when none)
   // output: Radiance and Alpha in place of the new frame's (each pixel reads only its own)
@@ -212,10 +205,6 @@ struct Reprojector
     if (!hit)
     {
       depth = this->NeighbourDepth(x, y); // a miss beside a surface may partly cover it
-      if (depth == 0.f && this->AcceptAll)
-      {
-        depth = this->FocusDistance;
-      }
       if (depth == 0.f)
       {
         this->Fresh(i);
@@ -279,16 +268,10 @@ struct Reprojector
       const float c = this->Coverage(index[k], p, invSpan, most, tolerance2);
       // A hit needs the surface over most of the pixel; a miss beside it, not all of it (a
       // pixel covered before is a disocclusion: the background shows through now).
-      bool same = inside &
+      const bool same = inside &
         (hit ? (c >= kHitCoverage) & this->SameAlbedo(index[k], albedo * c)
              : (c >= 0.f) & (c <= kMissCoverage));
-      if (this->Fringe)
-      {
-        const float seen = this->PrevAlpha[index[k]];
-        same = same |
-          (inside & (hit ? (c == 0.f) & (seen >= 0.02f) : (c >= 0.f) & (seen <= kMissCoverage)));
-      }
-      weight[k] = (same | (inside & this->AcceptAll)) ? weight[k] : 0.f;
+      weight[k] = same ? weight[k] : 0.f;
       total += weight[k];
     }
     if (!(total >= kMinimumWeight))
@@ -324,26 +307,6 @@ struct Reprojector
       out[c] = h[c] + (f[c] - h[c]) * a;
     }
     this->OutAlpha[i] = h[3] + (this->Alpha[i] - h[3]) * a;
-    if (this->Features)
-    {
-      for (int p = 0; p < kTracedPassCount; ++p)
-      {
-        if (p == PassRadiance || p == PassAlpha)
-        {
-          continue;
-        }
-        const int nc = GetPassInfo(p).Components;
-        for (int c = 0; c < nc; ++c)
-        {
-          float hp = 0.f;
-          for (int k = 0; k < 4; ++k)
-          {
-            hp += weight[k] * norm * this->PrevPass[p][nc * index[k] + c];
-          }
-          this->OutPass[p][nc * i + c] = hp + (this->CurPass[p][nc * i + c] - hp) * a;
-        }
-      }
-    }
     this->OutCount[i] = count + 1.f;
     return 2;
   }
@@ -370,11 +333,6 @@ inline void ReprojectRows(const Reprojector& r, int begin, int end, int* hits, i
       }
     }
     first = std::min(first, last); // no hits: the whole row is background
-    if (r.AcceptAll)
-    {
-      first = 0;
-      last = width;
-    }
     float* count = r.OutCount + std::size_t(y) * width;
     std::fill(count, count + first, 1.f);
     int h = 0, kept = 0;
@@ -433,22 +391,6 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   r.Alpha = frame.Data(PassAlpha);
   r.Depth = frame.Data(PassDepth);
   r.Albedo = frame.Data(PassAlbedo);
-  r.Fringe = std::getenv("PTV_HISTORY_FRINGE") != nullptr;
-  r.Features = std::getenv("PTV_HISTORY_FEATURES") != nullptr;
-  r.AcceptAll = std::getenv("PTV_HISTORY_ACCEPTALL") != nullptr;
-  r.FocusDistance = r.AcceptAll ? static_cast<float>(std::atof(std::getenv("PTV_HISTORY_ACCEPTALL"))) : 0.f;
-  if (r.Features)
-  {
-    this->Scratch.resize(kTracedPassCount);
-    for (int p = 0; p < kTracedPassCount; ++p)
-    {
-      const std::size_t size = n * GetPassInfo(p).Components;
-      this->Scratch[p].assign(frame.Data(p), frame.Data(p) + size);
-      r.PrevPass[p] = accumulated.Data(p);
-      r.CurPass[p] = frame.Data(p);
-      r.OutPass[p] = this->Scratch[p].data();
-    }
-  }
   r.OutRadiance = frame.Data(PassRadiance);
   r.OutAlpha = frame.Data(PassAlpha);
   r.OutCount = this->NewCounts.data();
@@ -484,16 +426,6 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   std::vector<int> reusedRows(static_cast<std::size_t>(height), 0);
   ParallelFor(threads, 0, height, 8,
     [&](int begin, int end) { rows(r, begin, end, hitRows.data(), reusedRows.data()); });
-  if (r.Features)
-  {
-    for (int p = 0; p < kTracedPassCount; ++p)
-    {
-      if (p != PassRadiance && p != PassAlpha)
-      {
-        std::copy(this->Scratch[p].begin(), this->Scratch[p].end(), frame.Data(p));
-      }
-    }
-  }
   for (int p = 0; p < kTracedPassCount; ++p)
   {
     accumulated.Swap(p, frame); // Radiance, Alpha: the blend; the others: the view's first frame

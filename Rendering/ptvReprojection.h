@@ -83,7 +83,6 @@ public:
 private:
   std::vector<float> Counts;
   std::vector<float> NewCounts;
-  std::vector<std::vector<float>> Scratch;
   std::vector<int> HitBegin, HitEnd; ///< per row: the span of the new frame's hits
   double Reused = 0.0;
 };
