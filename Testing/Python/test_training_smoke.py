@@ -83,6 +83,26 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert first_view["preset"].startswith("Stent ") and "split" not in first_view
     assert first_view == generate.view_parameters("stent", 0, 2023, 16, 4)
 
+    # history.py: each view seen through the mapper's reprojected history (a few frames along a
+    # short camera path); a rerun keeps the verified files, and spp 0 trains on them.
+    from ptv_training import history
+    assert history.main(["--data", str(data)]) == 0
+    hist = history.read_history(history.history_file(first))
+    counts = hist["HistoryLength"][hist["Alpha"][..., 0] > 0]
+    assert counts.size and counts.min() >= 1 and counts.max() <= 3.0 + 1e-6
+    assert counts.max() > 1  # some pixels kept their history
+    assert hist["Radiance"].shape == (32, 32, 3) and np.isfinite(hist["Radiance"]).all()
+    stamp = history.history_file(first).stat().st_mtime_ns
+    assert history.main(["--data", str(data)]) == 0
+    assert history.history_file(first).stat().st_mtime_ns == stamp
+    assert train.main(["--data", str(data), "--out", str(tmp_path / "run_hist"),
+                       "--val-per-dataset", "1", "--hidden", "4", "--batch", "2",
+                       "--max-steps", "2", "--threads", "2", "--spp", "1,0",
+                       "--no-progress"]) == 0
+    last = (tmp_path / "run_hist" / "log.csv").read_text().splitlines()
+    header, row = last[0].split(","), last[-1].split(",")
+    assert np.isfinite(float(row[header.index("val_psnr_history")]))
+
     run = tmp_path / "run"
     model_file = tmp_path / "model.onnx"
     assert train.main(["--data", str(data), "--out", str(run), "--val-per-dataset", "1",

@@ -1,7 +1,8 @@
 """Training samples from the generated views (``generate.py``): features, radiance, albedo and
 reference as tensors, the train/validation split, the 8 dihedral augmentations, metrics.
 
-A sample is one (view, spp) pair: the features of that spp's accumulated passes
+A sample is one (view, spp) pair: the features of that spp's accumulated passes (spp 0: the
+passes after a reprojected history, ``history.py``)
 (:func:`ptv_training.features.build_features`), its radiance and albedo (the bilateral grid's
 data) and the view's reference radiance. Features are per-pixel formulas plus per-frame min/max,
 so flipping/rotating the image commutes with building them; normals and positions are
@@ -68,7 +69,7 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         dataset = str(meta.get("dataset", Path(path).stem.split("_")[0]))
         reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
-            passes = view["inputs"][spp]
+            passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(Path(path))
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
@@ -76,6 +77,21 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
                 reference=reference, spp16=spp16,
                 passes=dict(passes) if keep_passes else {}))
     return samples
+
+
+#: The ``spp`` of a sample whose input is the view seen through the mapper's reprojected history
+#: (``history.py``: a few 1-spp frames along a short camera path ending at the view).
+HISTORY_SPP = 0
+
+
+def _history_passes(path: Path) -> Dict[str, np.ndarray]:
+    from .history import history_file, read_history
+
+    target = history_file(path)
+    if not target.exists():
+        raise FileNotFoundError(f"{target}: no history input for {path.name} (spp 0 needs "
+                                f"history.py --data {path.parent})")
+    return read_history(target)
 
 
 def split_views(data_dir: Path, val_per_dataset: int) -> Tuple[List[Path], List[Path], dict]:
