@@ -79,18 +79,41 @@ def _as_hwc(a: np.ndarray) -> np.ndarray:
     return a[:, :, None] if a.ndim == 2 else a
 
 
+def pack_passes(passes: Mapping[str, np.ndarray], prefix: str) -> Dict[str, np.ndarray]:
+    """EXR channels ``prefix + channel`` (top row first) of every pass of
+    :data:`PASS_CHANNELS`, each ``(H, W[, C])`` in VTK row order."""
+    out: Dict[str, np.ndarray] = {}
+    for name, chans in PASS_CHANNELS.items():
+        a = _as_hwc(passes[name])
+        if a.shape[2] != len(chans):
+            raise ValueError(f"pass {name} has {a.shape[2]} components, expected {len(chans)}")
+        for i, c in enumerate(chans):
+            out[prefix + c] = np.ascontiguousarray(a[::-1, :, i])
+    return out
+
+
+def unpack_passes(channels: Mapping[str, np.ndarray], prefix: str) -> Dict[str, np.ndarray]:
+    """The passes of :data:`PASS_CHANNELS` stored under ``prefix`` (:func:`pack_passes`), each
+    ``(H, W, C)`` in VTK row order."""
+    return {name: np.ascontiguousarray(np.stack([channels[prefix + c][::-1] for c in chans], -1))
+            for name, chans in PASS_CHANNELS.items()}
+
+
+def digest_matches(channels: Mapping[str, np.ndarray], header: Mapping[str, object]) -> bool:
+    """Whether the header's ``ptv.sha256`` (when present) is that of ``channels``."""
+    digest = header.get(DIGEST_ATTRIBUTE)
+    if isinstance(digest, bytes):
+        digest = digest.decode(errors="replace")
+    return digest is None or str(digest) == channels_digest(channels)
+
+
 def pack_view(inputs: Mapping[int, Mapping[str, np.ndarray]],
               radiance: Mapping[str, np.ndarray]) -> Dict[str, np.ndarray]:
     """EXR channels (top row first) from ``inputs[spp][pass]`` and ``radiance[key]``, all
     ``(H, W[, C])`` in VTK row order."""
     out: Dict[str, np.ndarray] = {}
     for spp, passes in inputs.items():
-        for name, chans in PASS_CHANNELS.items():
-            a = _as_hwc(passes[name])
-            if a.shape[2] != len(chans):
-                raise ValueError(f"pass {name} has {a.shape[2]} components, expected {len(chans)}")
-            for i, c in enumerate(chans):
-                out[spp_prefix(spp) + c] = np.ascontiguousarray(a[::-1, :, i])
+        out.update(pack_passes(passes, spp_prefix(spp)))
     for key, prefix in RADIANCE_IMAGES.items():
         a = _as_hwc(radiance[key])
         for i, c in enumerate("RGB"):
@@ -167,10 +190,7 @@ def verify_view_file(path: str | os.PathLike, expected_view: Optional[Mapping] =
         return False, f"channel sizes differ: {shapes}"
     if size is not None and shapes.pop() != (size[1], size[0]):
         return False, "wrong size"
-    digest = header.get(DIGEST_ATTRIBUTE)
-    if isinstance(digest, bytes):
-        digest = digest.decode(errors="replace")
-    if digest is not None and str(digest) != channels_digest(channels):
+    if not digest_matches(channels, header):
         return False, "checksum mismatch (damaged pixel data)"
     if not all(np.isfinite(v).all() for v in channels.values()):
         return False, "non-finite values"
@@ -194,8 +214,7 @@ def read_view(path: str | os.PathLike) -> Dict[str, object]:
         prefix = spp_prefix(spp)
         if prefix + "R" not in channels:
             continue
-        inputs[spp] = {name: stack(prefix + c for c in chans)
-                       for name, chans in PASS_CHANNELS.items()}
+        inputs[spp] = unpack_passes(channels, prefix)
     out: Dict[str, object] = {"inputs": inputs, "view": view_attribute(header)}
     for key, prefix in RADIANCE_IMAGES.items():
         out[key] = stack(prefix + c for c in "RGB")

@@ -68,11 +68,7 @@ def render_history(scene: Scene, view: Mapping[str, Any], path: Sequence[Mapping
 
 def pack(passes: Mapping[str, np.ndarray]) -> Dict[str, np.ndarray]:
     """EXR channels (top row first) of :func:`render_history`'s passes."""
-    out: Dict[str, np.ndarray] = {}
-    for name, chans in exr_io.PASS_CHANNELS.items():
-        a = passes[name]
-        for i, c in enumerate(chans):
-            out[PREFIX + c] = np.ascontiguousarray(a[::-1, :, i])
+    out = exr_io.pack_passes(passes, PREFIX)
     out[COUNT_CHANNEL] = np.ascontiguousarray(passes["HistoryLength"][::-1, :, 0])
     return out
 
@@ -80,8 +76,7 @@ def pack(passes: Mapping[str, np.ndarray]) -> Dict[str, np.ndarray]:
 def read_history(path: Path) -> Dict[str, np.ndarray]:
     """A history file's passes ``(H, W, C)`` in VTK row order (``HistoryLength`` included)."""
     channels, _ = exr_io.read_exr(path)
-    out = {name: np.ascontiguousarray(np.stack([channels[PREFIX + c][::-1] for c in chans], -1))
-           for name, chans in exr_io.PASS_CHANNELS.items()}
+    out = exr_io.unpack_passes(channels, PREFIX)
     out["HistoryLength"] = np.ascontiguousarray(channels[COUNT_CHANNEL][::-1][..., None])
     return out
 
@@ -94,10 +89,8 @@ def is_complete(path: Path) -> bool:
         channels, header = exr_io.read_exr(path)
     except Exception:  # noqa: BLE001 (a damaged or partial file: render it again)
         return False
-    digest = header.get(exr_io.DIGEST_ATTRIBUTE)
-    if isinstance(digest, bytes):
-        digest = digest.decode()
-    return COUNT_CHANNEL in channels and digest == exr_io.channels_digest(channels)
+    return (COUNT_CHANNEL in channels and exr_io.DIGEST_ATTRIBUTE in header
+            and exr_io.digest_matches(channels, header))
 
 
 def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:

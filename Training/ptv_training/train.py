@@ -56,8 +56,8 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/tra
 from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
 
 from .bilateral_grid import denoise  # noqa: E402
-from .data import (Sample, batch, load_samples, psnr, split_views, tonemap,  # noqa: E402
-                   tonemap_np)
+from .data import (HISTORY_SPP, Sample, batch, load_samples, psnr,  # noqa: E402
+                   split_views, tonemap, tonemap_np)
 from .export_onnx import levels_string, parse_levels  # noqa: E402
 from .features import resolve_channels  # noqa: E402
 from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
@@ -68,7 +68,8 @@ from .unet import macs_per_pixel as unet_macs  # noqa: E402
 REPO_ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v2"
 LOG_FIELDS = ["epoch", "steps", "elapsed_s", "train_loss", "val_loss", "val_psnr",
-              "val_psnr_1spp", "val_psnr_2spp", "val_psnr_4spp", "noisy_psnr_1spp", "lr", "best", "val_psnr_history"]
+              "val_psnr_1spp", "val_psnr_2spp", "val_psnr_4spp", "noisy_psnr_1spp", "lr", "best",
+              "val_psnr_history"]
 
 
 def macs_per_pixel(model: GuideNet | UNet) -> int:
@@ -210,7 +211,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                         "references (default); l1: L1 on tone-mapped images")
     p.add_argument("--clamp", type=float, default=8.0,
                    help="outlier clamp of the grid (default 8, as the C++ default)")
-    p.add_argument("--spp", default="1,2,4", help="input spp used for training (default 1,2,4; 0: the view after a "
+    p.add_argument("--spp", default="1,2,4",
+                   help="input spp used for training (default 1,2,4; 0: the view after a "
                         "reprojected history, history.py)")
     p.add_argument("--val-per-dataset", type=int, default=3,
                    help="views per dataset held out for validation (default 3)")
@@ -388,7 +390,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                "val_psnr_1spp": round(ev.get("psnr_1spp", math.nan), 4),
                "val_psnr_2spp": round(ev.get("psnr_2spp", math.nan), 4),
                "val_psnr_4spp": round(ev.get("psnr_4spp", math.nan), 4),
-               "val_psnr_history": round(ev.get("psnr_0spp", math.nan), 4),
+               "val_psnr_history": round(ev.get(f"psnr_{HISTORY_SPP}spp", math.nan), 4),
                "noisy_psnr_1spp": round(ev.get("noisy_1spp", math.nan), 4),
                "lr": optimizer.param_groups[0]["lr"], "best": int(is_best)}
         if args.lr_patience > 0 and args.lr_schedule == "plateau":
