@@ -4,7 +4,6 @@
 #include "ptvFeatures.h"
 #include "ptvKernelDispatch.h"
 #include "ptvPassBuffers.h"
-#include "ptvThreads.h"
 
 #include "vtkTimerLog.h"
 
@@ -63,26 +62,6 @@ int FittingLevels(
     --count;
   }
   return count;
-}
-
-/**
- * The pixels whose Coverage is exactly 0 provably show no volume (ptvCoverage.h): their radiance
- * is exactly 0 in every frame, so the result is 0 there instead of what the grid spread into
- * them. Any other value, NaN included, keeps the denoised pixel.
- */
-void KeepEmptyPixelsEmpty(const float* coverage, std::size_t n, int threads, float* out)
-{
-  ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 16,
-    [&](std::size_t begin, std::size_t end)
-    {
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        if (coverage[i] == 0.0f)
-        {
-          out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = 0.0f;
-        }
-      }
-    });
 }
 }
 
@@ -353,10 +332,6 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
       }
       if (done)
       {
-        if (passes[PassCoverage])
-        {
-          KeepEmptyPixelsEmpty(passes[PassCoverage], n, settings.Threads, out);
-        }
         return true;
       }
       if (this->NetworkActive)
@@ -411,12 +386,6 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   const BilateralGridTimings& t = this->Grid.GetLastTimings();
   this->Timings.Splat = t.Demodulate + t.Splat;
   this->Timings.Slice = t.Slice;
-  if (passes[PassCoverage])
-  {
-    const double start = NowMs();
-    KeepEmptyPixelsEmpty(passes[PassCoverage], n, settings.Threads, out);
-    this->Timings.Slice += NowMs() - start;
-  }
   return true;
 }
 }

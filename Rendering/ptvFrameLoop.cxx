@@ -71,7 +71,6 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   this->LastTraceTime = 0.0;
   this->LastDenoiseTime = 0.0;
   this->LastReprojectionTime = 0.0;
-  this->LastCoverageTime = 0.0;
   auto fail = [this, &messages](const std::string& error)
   {
     if (this->ReportOnce(error))
@@ -288,20 +287,6 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
-  if (this->AccumulatedFrames == 1) // a new view (or scene): which pixels can show nothing
-  {
-    const double coverageStart = Now();
-    float* coverage = this->Accumulated.Data(PassCoverage);
-    if (this->Params.Camera.Width == width && this->Params.Camera.Height == height)
-    {
-      ComputeCoverage(this->Params, coverage, request.Threads);
-    }
-    else // a frame gathered at another size: nothing is known
-    {
-      std::fill(coverage, coverage + static_cast<std::size_t>(width) * height, 1.0f);
-    }
-    this->LastCoverageTime += 1000.0 * (Now() - coverageStart);
-  }
 }
 
 //------------------------------------------------------------------------------
@@ -325,7 +310,6 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     passes[p] = acc.Data(p);
   }
-  passes[PassCoverage] = acc.Data(PassCoverage); // its empty pixels stay exactly empty
   const double start = Now();
   std::string error;
   if (!this->Denoising.Run(settings, passes, width, height, acc.Data(PassDenoised), error))

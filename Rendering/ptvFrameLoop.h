@@ -30,7 +30,6 @@
 #define ptvFrameLoop_h
 
 #include "ptvConvergence.h"
-#include "ptvCoverage.h"
 #include "ptvDenoiser.h"
 #include "ptvDisplay.h"
 #include "ptvFrameInputs.h"
@@ -112,8 +111,6 @@ public:
   double GetReprojectionReuse() const { return this->History.GetReusedFraction(); }
   /// Milliseconds the last Render spent reprojecting (0 when the view did not move).
   double GetLastReprojectionTime() const { return this->LastReprojectionTime; }
-  /// Milliseconds the last render spent on the Coverage pass (0 when the view did not change).
-  double GetLastCoverageTime() const { return this->LastCoverageTime; }
   /// Frames traced by the last Render (0, 1, or more for a still render).
   int GetLastRenderFrames() const { return this->LastRenderFrames; }
   /// Estimated PSNR (dB, tone-mapped) of what is shown; 0 before 2 frames.
@@ -165,7 +162,6 @@ private:
   unsigned int SampleFrames = 0; ///< frames since the last reset: the sample index
   int LastViewFrames = 0;        ///< AccumulatedFrames after the last trace
   double LastReprojectionTime = 0.0;
-  double LastCoverageTime = 0.0;
   int LastRenderFrames = 0;
   double EstimatedQuality = 0.0;
   bool StillConverged = false;

@@ -29,7 +29,6 @@ enum PassId
   PassBlendWeights, ///< its blend weights (unused 0)
   PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
   PassHistoryLength, ///< frames in each pixel's accumulated mean (ptvReprojection; capped history)
-  PassCoverage,      ///< 0 where the pixel provably shows no volume, else 1 (ptvCoverage)
   PassCount
 };
 

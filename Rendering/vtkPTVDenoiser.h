@@ -15,10 +15,6 @@
  * reference Training/ptv_training/bilateral_grid.py follows). GetGuides() and
  * GetBlendWeights() return what the network predicted.
  *
- * "Coverage" (1 component, optional; the mapper's pass of that name) marks the pixels known to
- * show no volume with exactly 0: their output is 0 instead of colour the grid spread into them
- * from their neighbours (any other value, NaN included, keeps the denoised pixel).
- *
  * Three more image names replace a stage, for tests and research:
  * - "Features": the network's input (channel last, in the model's channel order, at the
  *   model's resolution: ceil(W / s) x ceil(H / s) for guide stride s) instead of the features

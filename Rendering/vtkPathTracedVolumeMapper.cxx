@@ -465,7 +465,6 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastDenoiseTime = loop.GetLastDenoiseTime();
   this->ReprojectionReuse = loop.GetReprojectionReuse();
   this->LastReprojectionTime = loop.GetLastReprojectionTime();
-  this->LastCoverageTime = loop.GetLastCoverageTime();
 }
 
 //------------------------------------------------------------------------------

@@ -29,12 +29,7 @@
  * the accumulated passes after each traced frame, and "Converged" (the denoised image faded into
  * the raw mean as samples accumulate). "HistoryLength" is the number of frames in each pixel's
  * accumulated mean (after a camera move: reprojected history, at most MaximumHistory, plus the
- * frames of the new view). "Coverage" is 0 on the pixels that provably show no volume (no ray
- * through them can meet a brick of the empty-space grid that may hold a visible sample: their
- * Radiance and Alpha are exactly 0) and 1 elsewhere; the denoiser keeps those pixels empty
- * instead of spreading colour into them. It is computed once per view, and is all ones without
- * EmptySpaceSkipping, for a distributed piece, and where a pixel's rays spread over more than a
- * brick of the volume (zoomed far out): it never marks a pixel that could show the volume.
+ * frames of the new view).
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h
@@ -103,10 +98,6 @@ public:
 
   /// Milliseconds the last render spent reprojecting (0 when the camera did not move).
   vtkGetMacro(LastReprojectionTime, double);
-
-  /// Milliseconds the last render spent on the "Coverage" pass (computed once per view: 0 when
-  /// neither the view nor the scene changed).
-  vtkGetMacro(LastCoverageTime, double);
 
   ///@{
   /**
@@ -499,7 +490,6 @@ protected:
   double LastDenoiseTime = 0.0;
   double ReprojectionReuse = 0.0;
   double LastReprojectionTime = 0.0;
-  double LastCoverageTime = 0.0;
 
 private:
   vtkPathTracedVolumeMapper(const vtkPathTracedVolumeMapper&) = delete;
