@@ -169,6 +169,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
 {
   const float* mean = this->Mean.data();
   const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
+  this->Blend.clear(); // BlendAlpha: the denoised alpha unless set below
   if (count != this->Count || n == 0)
   {
     return 0.0; // statistics of another accumulation: nothing to say
@@ -227,6 +228,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
     Box(this->Variance, this->Scratch, this->Width, this->Height, box, threads);
   }
 
+  this->Blend.assign(n, 1.0f); // Denoise off: the raw mean
   double sum = 0.0;
   for (std::size_t p = 0; p < n; ++p)
   {
@@ -239,6 +241,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
     const float e = std::max(this->DenoiserError[p] - v, 0.0f);
     const bool blend = k >= kMinimumBlendFrames && e + v > 0.0f;
     const float w = blend ? std::min(e / (e + v), 1.0f) : 0.0f;
+    this->Blend[p] = w;
     for (int c = 0; c < 3; ++c)
     {
       const std::size_t i = 3 * p + c;
@@ -249,5 +252,21 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
   }
   const double mse = sum / static_cast<double>(n);
   return mse > 0.0 ? -10.0 * std::log10(mse) : 100.0; // identical halves: an empty view
+}
+
+//------------------------------------------------------------------------------
+void Convergence::BlendAlpha(
+  const float* alpha, const float* denoisedAlpha, std::size_t pixels, float* shown) const
+{
+  if (this->Blend.size() != pixels) // one frame (or no statistics): the denoised image's alpha
+  {
+    std::copy(denoisedAlpha, denoisedAlpha + pixels, shown);
+    return;
+  }
+  for (std::size_t p = 0; p < pixels; ++p)
+  {
+    const float w = this->Blend[p];
+    shown[p] = w * alpha[p] + (1.0f - w) * denoisedAlpha[p];
+  }
 }
 }

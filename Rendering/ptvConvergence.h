@@ -23,6 +23,7 @@
 #ifndef ptvConvergence_h
 #define ptvConvergence_h
 
+#include <cstddef>
 #include <vector>
 
 namespace ptv
@@ -48,6 +49,15 @@ public:
    */
   double Combine(const float* denoised, int count, float* shown, int threads);
 
+  /**
+   * The opacity to draw the last Combine's shown image with: per pixel the same blend of the
+   * accumulated @a alpha and @a denoisedAlpha (the alpha through the denoiser's grid) as the
+   * colour's, w alpha + (1 - w) denoisedAlpha, into @a shown (@a pixels floats each; below
+   * kMinimumBlendFrames frames, or without statistics of this size, @a denoisedAlpha).
+   */
+  void BlendAlpha(
+    const float* alpha, const float* denoisedAlpha, std::size_t pixels, float* shown) const;
+
 private:
   int Width = 0;
   int Height = 0;
@@ -56,6 +66,7 @@ private:
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
   std::vector<float> DenoiserError, Variance, HalfVariance, Scratch;
+  std::vector<float> Blend; ///< the last Combine's w per pixel (0: the denoised image)
 };
 }
 

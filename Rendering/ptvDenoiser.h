@@ -69,6 +69,16 @@ public:
   bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
     float* out, std::string& error, const DenoiserOverrides* given = nullptr);
 
+  /**
+   * The last Run's finest bilateral grid level -- its guide and steps, on the same device --
+   * applied to the one-channel @a image (the last Run's size, interleaved like the passes)
+   * without demodulation or outlier clamp, into @a out (clamped to [0, 1]). The display draws the denoised
+   * image with the Alpha pass filtered so (the accumulated alpha of one frame is 0 or 1 per
+   * pixel). Returns false, with @a out a copy of @a image, when the last Run used no grid (an
+   * image-to-image model, or no successful Run yet).
+   */
+  bool FilterLikeLast(const float* image, float* out, int threads);
+
   /// Whether the last Run used GuideNet (else the fixed guide).
   bool GetNetworkActive() const { return this->NetworkActive; }
   /// e.g. "GuideNet <file> (CPUExecutionProvider), 3 levels" or "fixed guide: <why>".
@@ -105,6 +115,11 @@ private:
   FeatureBuilder FeatureMaker;
   GuideUpsampler Upsampler;
   std::vector<float> Features, NetOutput, Guides, Weights;
+  std::vector<float> Replicated, Filtered, FineGuide; // FilterLikeLast's scratch
+  BilateralGridSettings LastGrid;          // what the last Run's grid ran
+  bool LastGridCuda = false;
+  bool LastRanGrid = false;                // false: the last Run had no grid (or failed)
+  int LastWidth = 0, LastHeight = 0;
   int Levels = 0;
   bool NetworkActive = false;
   std::string Status, Warning;

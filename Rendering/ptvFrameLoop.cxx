@@ -195,8 +195,17 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   {
     return;
   }
-  this->Shown.Update(ren, this->Accumulated, this->ShownPass(request, messages),
-    this->Params.Camera, this->Inputs.GetWorldBounds(), request.Threads);
+  const int shownPass = this->ShownPass(request, messages);
+  // Denoised and Converged are drawn with their own opacity (DenoiseFrame, Combine).
+  const std::size_t pixels = static_cast<std::size_t>(this->Accumulated.GetWidth()) *
+    static_cast<std::size_t>(this->Accumulated.GetHeight());
+  const bool convergedAlpha = this->CombinedValid && this->CombinedWithDenoiser &&
+    this->ConvergedAlpha.size() == pixels;
+  const float* shownAlpha = shownPass == PassDenoised ? this->Accumulated.Data(PassDenoisedAlpha)
+    : shownPass == PassConverged && convergedAlpha ? this->ConvergedAlpha.data()
+                                                   : nullptr;
+  this->Shown.Update(ren, this->Accumulated, shownPass, this->Params.Camera,
+    this->Inputs.GetWorldBounds(), request.Threads, shownAlpha);
   this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth(),
     this->Shown.GetCovered());
 }
@@ -322,6 +331,9 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     messages.emplace_back(false, warning);
   }
+  // The opacity the denoised image is drawn with: Alpha through the same grid (one frame's
+  // alpha is 0 or 1 per pixel, which would punch the denoised image back to its coverage).
+  this->Denoising.FilterLikeLast(acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), request.Threads);
   // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
   const int levels = this->Denoising.GetLevels();
   const std::vector<float>& guideIn = this->Denoising.GetGuides();
@@ -363,6 +375,14 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
   this->EstimatedQuality = this->Converging.Combine(denoised ? acc.Data(PassDenoised) : nullptr,
     this->AccumulatedFrames,
     denoised ? acc.Data(PassConverged) : nullptr, request.Threads);
+  if (denoised)
+  {
+    const std::size_t n =
+      static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
+    this->ConvergedAlpha.resize(n);
+    this->Converging.BlendAlpha(
+      acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), n, this->ConvergedAlpha.data());
+  }
   this->CombinedValid = true;
   this->CombinedWithDenoiser = denoised;
 }

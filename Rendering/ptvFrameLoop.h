@@ -157,6 +157,7 @@ private:
   ShownImage Shown;
   Display Drawing;
   std::vector<float> ZBuffer;
+  std::vector<float> ConvergedAlpha; ///< the opacity the Converged pass is drawn with
 
   int AccumulatedFrames = 0;
   unsigned int SampleFrames = 0; ///< frames since the last reset: the sample index

@@ -22,6 +22,7 @@ const PassInfo kPasses[PassCount] = {
   { "BlendWeights", 2 },
   { "Converged", 3 },
   { "HistoryLength", 1 },
+  { "DenoisedAlpha", 1 },
 };
 
 void Put3(std::vector<float>& b, int pixel, const Vec3& v)

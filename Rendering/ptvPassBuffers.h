@@ -29,6 +29,7 @@ enum PassId
   PassBlendWeights, ///< its blend weights (unused 0)
   PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
   PassHistoryLength, ///< frames in each pixel's accumulated mean (ptvReprojection; capped history)
+  PassDenoisedAlpha, ///< Alpha through the denoiser's grid: the opacity Denoised is drawn with
   PassCount
 };
 
@@ -38,7 +39,7 @@ constexpr int kTracedPassCount = PassDenoised;
 /// Whether @a pass is made by the denoiser (only available with Denoise on).
 inline bool IsDenoiserPass(int pass)
 {
-  return pass >= PassDenoised && pass <= PassConverged;
+  return (pass >= PassDenoised && pass <= PassConverged) || pass == PassDenoisedAlpha;
 }
 
 struct PassInfo

@@ -28,7 +28,7 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
     lo = 0.0f; // frames / the most frames: grey levels
     hi = std::max(1.0f, *std::max_element(data, data + n));
   }
-  else if (comps == 1 && pass != PassAlpha)
+  else if (comps == 1 && pass != PassAlpha && pass != PassDenoisedAlpha)
   {
     for (int i = 0; i < n; ++i)
     {
@@ -42,7 +42,7 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
   for (int i = 0; i < n; ++i)
   {
     float c[3] = { 0, 0, 0 };
-    if (pass == PassAlpha)
+    if (pass == PassAlpha || pass == PassDenoisedAlpha)
     {
       c[0] = c[1] = c[2] = data[i];
     }
@@ -96,7 +96,7 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
 
 //------------------------------------------------------------------------------
 void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
-  const CameraRays& camera, const double bounds[6], int threads)
+  const CameraRays& camera, const double bounds[6], int threads, const float* shownAlpha)
 {
   const int width = passes.GetWidth();
   const int height = passes.GetHeight();
@@ -122,7 +122,7 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
     wRow[c] = toNdc->GetElement(3, c);
   }
   const float* rgb = passes.Data(radiance ? pass : PassRadiance);
-  const float* alpha = passes.Data(PassAlpha);
+  const float* alpha = shownAlpha ? shownAlpha : passes.Data(PassAlpha);
   const float* depth = passes.Data(PassDepth);
   float* color = this->Color.data();
   float* shown = this->Depth.data();

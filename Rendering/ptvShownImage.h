@@ -30,10 +30,12 @@ public:
   /**
    * Fill the colour from pass @a pass of @a passes and the depth from its Depth pass, with the
    * projection of @a ren's active camera; @a camera made the rays, @a bounds are the volume's
-   * world bounds. Rows run on @a threads threads (<= 0: every core).
+   * world bounds. Rows run on @a threads threads (<= 0: every core). A radiance-like pass
+   * (Radiance, Denoised, Converged) is drawn premultiplied with opacity @a alpha (one float per
+   * pixel), or with the Alpha pass when it is nullptr.
    */
   void Update(vtkRenderer* ren, const PassBuffers& passes, int pass, const CameraRays& camera,
-    const double bounds[6], int threads);
+    const double bounds[6], int threads, const float* alpha = nullptr);
 
   const float* GetColor() const { return this->Color.data(); }
   const float* GetDepth() const { return this->Depth.data(); }

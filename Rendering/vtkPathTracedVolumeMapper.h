@@ -29,7 +29,11 @@
  * the accumulated passes after each traced frame, and "Converged" (the denoised image faded into
  * the raw mean as samples accumulate). "HistoryLength" is the number of frames in each pixel's
  * accumulated mean (after a camera move: reprojected history, at most MaximumHistory, plus the
- * frames of the new view).
+ * frames of the new view). "DenoisedAlpha" is the Alpha pass through the finest level of the
+ * denoiser's grid (its guide, no clamp): Denoised is drawn with it as its opacity, and
+ * Converged with the same per-pixel blend of it and Alpha as its colour's (ptvConvergence); one
+ * frame's Alpha is 0 or 1 per pixel, which would show the background through every pixel whose
+ * ray met no event however much colour the denoiser gave it.
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h

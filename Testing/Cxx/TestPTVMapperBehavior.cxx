@@ -147,7 +147,8 @@ void TestPasses()
   vtkNew<vtkImageData> image;
   Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
   s.Window->Render();
-  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 14, "9 traced + 4 denoiser passes + HistoryLength");
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 15,
+    "9 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha");
   for (int i = 0; i < 9; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);

@@ -46,6 +46,7 @@ CONVENTIONAL = {
     "BlendWeights": ["BlendWeights.0", "BlendWeights.1"],
     "Converged": ["Converged.R", "Converged.G", "Converged.B"],
     "HistoryLength": ["HistoryLength.Y"],
+    "DenoisedAlpha": ["DenoisedAlpha.Y"],
 }
 
 
@@ -104,7 +105,8 @@ def render_passes(denoise: bool) -> vtkImageData:
         name = mapper.GetPassName(i)
         array = passes.GetPointData().GetArray(name)
         if array is None:
-            assert not denoise and name in ("Denoised", "Guides", "BlendWeights", "Converged")
+            assert not denoise and name in ("Denoised", "Guides", "BlendWeights", "Converged",
+                                                 "DenoisedAlpha")
             continue
         single = vtkImageData()
         assert mapper.GetPass(name, single)

@@ -62,8 +62,9 @@ def test_passes_are_numpy_arrays() -> None:
     window.Render()
     names = [mapper.GetPassName(i) for i in range(mapper.GetNumberOfPasses())]
     assert names[:3] == ["Radiance", "Alpha", "Albedo"]
-    assert names[-5:] == ["Denoised", "Guides", "BlendWeights", "Converged", "HistoryLength"]
-    for name in names[:-5] + ["HistoryLength"]:
+    assert names[-6:] == ["Denoised", "Guides", "BlendWeights", "Converged", "HistoryLength",
+                          "DenoisedAlpha"]
+    for name in names[:-6] + ["HistoryLength"]:
         values = get_pass(mapper, name)
         assert values.dtype == np.float32
         assert values.shape in ((W * H,), (W * H, 3)), name

@@ -1,0 +1,152 @@
+"""The denoised image is drawn with its own opacity, DenoisedAlpha, not with the accumulated Alpha.
+
+One frame's Alpha is 0 or 1 per pixel. Drawn with it, the window showed the background wherever
+the frame's ray met no event (the shader discards alpha <= 0) however much colour the denoiser
+gave the pixel, and no background through a translucent pixel whose ray met one. These tests
+read the window back and check it against the passes: premultiplied colour over the background
+with DenoisedAlpha as the opacity, DenoisedAlpha is the Alpha pass through the finest level of
+the denoiser's grid (vtkPTVDenoiser with the same guide), and after several frames Converged is
+drawn with an opacity between Alpha and DenoisedAlpha (their per-pixel blend). Needs a display
+(ctest runs under Xvfb) and the built package on PYTHONPATH."""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+import vtkmodules.util.numpy_support as vtk_numpy
+import pathtracedvolume.vtkPTVRendering as ptv
+
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction  # noqa: E402
+from vtkmodules.vtkImagingCore import vtkRTAnalyticSource  # noqa: E402
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer,  # noqa: E402
+                                         vtkRenderWindow, vtkVolume, vtkVolumeProperty,
+                                         vtkWindowToImageFilter)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: E402,F401
+
+W, H = 64, 48
+# One unit of the window's 8 bits, and the rounding of colour + (1 - alpha) background into it.
+LSB = 1.0 / 255.0
+
+
+def make_scene(background: Tuple[float, float, float]):
+    source = vtkRTAnalyticSource()
+    source.SetWholeExtent(-16, 16, -16, 16, -16, 16)
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(37, 0.2, 0.4, 1.0)
+    color.AddRGBPoint(277, 1.0, 0.9, 0.5)
+    opacity = vtkPiecewiseFunction()  # translucent: many rays of one frame meet no event
+    opacity.AddPoint(37, 0.0)
+    opacity.AddPoint(277, 0.05)
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.ShadeOn()
+    mapper = ptv.vtkPathTracedVolumeMapper()
+    mapper.ConvergeStillRendersOff()  # one frame per Render()
+    mapper.SetInputConnection(source.GetOutputPort())
+    mapper.DenoiseOn()
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    renderer = vtkRenderer()
+    renderer.AddVolume(volume)
+    renderer.SetBackground(*background)
+    renderer.ResetCamera()
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(W, H)
+    window.AddRenderer(renderer)
+    return window, mapper, (source, prop, volume, renderer)
+
+
+def get_pass(mapper, name: str) -> np.ndarray:
+    image = vtkImageData()
+    assert mapper.GetPass(name, image), name
+    values = vtk_numpy.vtk_to_numpy(image.GetPointData().GetArray(name)).copy()
+    return values.reshape(H, W, -1)
+
+
+def read_window(window) -> np.ndarray:
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ShouldRerenderOff()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    pixels = vtk_numpy.vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
+    return pixels.reshape(H, W, -1)[..., :3].astype(np.float64) / 255.0
+
+
+def test_one_frame_is_drawn_with_denoised_alpha() -> None:
+    background = np.array([0.2, 0.4, 0.6])
+    window, mapper, _ = make_scene(tuple(background))
+    window.Render()
+    assert mapper.GetAccumulatedFrames() == 1
+    shown = get_pass(mapper, "Converged").astype(np.float64)
+    alpha = get_pass(mapper, "Alpha")[..., 0]
+    denoised_alpha = get_pass(mapper, "DenoisedAlpha")[..., 0].astype(np.float64)
+    assert np.array_equal(shown, get_pass(mapper, "Denoised")), "one frame: Converged = Denoised"
+    assert set(np.unique(alpha)) <= {0.0, 1.0}
+    assert 0.0 <= denoised_alpha.min() and denoised_alpha.max() <= 1.0
+    # The case that was drawn wrong: pixels with colour whose ray met no event.
+    lit = (alpha == 0) & (shown.max(-1) > 4 * LSB) & (denoised_alpha > 0)
+    assert lit.sum() >= 20, f"the scene should have translucent misses ({lit.sum()})"
+
+    win = read_window(window)
+    drawn = denoised_alpha > 0
+    expected = np.clip(shown + (1 - denoised_alpha[..., None]) * background, 0, 1)
+    error = np.abs(win - expected)[drawn]
+    assert error.max() <= 1.5 * LSB, f"window vs colour + (1 - DenoisedAlpha) bg: {error.max()}"
+    assert np.abs(win[~drawn] - background).max() <= 1.5 * LSB, "opacity 0: the background"
+    # Drawn with the frame's Alpha those pixels would show the background alone.
+    moved = np.abs(win[lit] - background).max(-1)
+    assert moved.mean() > 3 * LSB, f"colour where the frame's ray met nothing: {moved.mean()}"
+
+
+
+def test_denoised_alpha_is_alpha_through_the_finest_grid_level() -> None:
+    window, mapper, _ = make_scene((0.0, 0.0, 0.0))
+    window.Render()
+    alpha = get_pass(mapper, "Alpha")
+    guides = get_pass(mapper, "Guides")
+    denoiser = ptv.vtkPTVDenoiser()
+    images = []
+    for name, values in (("Radiance", np.repeat(alpha, 3, axis=-1)),
+                         ("Guides", guides[..., :1])):
+        image = vtkImageData()
+        image.SetDimensions(W, H, 1)
+        array = vtk_numpy.numpy_to_vtk(
+            np.ascontiguousarray(values.reshape(W * H, -1), np.float32), deep=1)
+        array.SetName(name)
+        image.GetPointData().SetScalars(array)
+        images.append(image)
+        denoiser.SetImage(name, image)
+    denoiser.SetSpatialStep(0, 4)  # the shipped model's finest level (4:4)
+    denoiser.SetRangeStep(0, 4)
+    denoiser.SetClamp(0.0)
+    assert denoiser.Execute(), denoiser.GetStatus()
+    out = vtk_numpy.vtk_to_numpy(denoiser.GetOutput().GetPointData().GetArray("Denoised"))
+    expected = np.clip(out.reshape(H, W, 3)[..., 0], 0, 1)
+    got = get_pass(mapper, "DenoisedAlpha")[..., 0]
+    assert np.abs(got - expected).max() <= 1e-6
+    assert np.abs(got - alpha[..., 0]).max() > 0.1, "the grid smooths the 0/1 coverage"
+
+
+def test_converged_is_drawn_between_alpha_and_denoised_alpha() -> None:
+    background = np.array([0.5, 0.5, 0.5])
+    window, mapper, _ = make_scene(tuple(background))
+    for _ in range(12):  # past the 8 frames from which Converged blends in the raw mean
+        window.Render()
+    assert mapper.GetAccumulatedFrames() == 12
+    shown = get_pass(mapper, "Converged").astype(np.float64)
+    alpha = get_pass(mapper, "Alpha")[..., 0].astype(np.float64)
+    denoised_alpha = get_pass(mapper, "DenoisedAlpha")[..., 0].astype(np.float64)
+    win = read_window(window)
+    # The opacity the window used, from colour + (1 - a) background on the unclipped pixels.
+    inside = (shown + background < 1 - 2 * LSB).all(-1) & (np.maximum(alpha, denoised_alpha) > 0)
+    used = 1 - ((win - shown) / background).mean(-1)
+    lo = np.minimum(alpha, denoised_alpha) - 3 * LSB / background.min()
+    hi = np.maximum(alpha, denoised_alpha) + 3 * LSB / background.min()
+    assert inside.sum() > 100
+    assert ((used >= lo) & (used <= hi))[inside].all()
+    assert np.abs(used - alpha)[inside].max() > 0.05, "not just the accumulated Alpha"
