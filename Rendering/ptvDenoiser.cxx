@@ -259,10 +259,49 @@ bool Denoiser::FixedGuide(const DenoiserSettings& settings, const float* const* 
 
 //------------------------------------------------------------------------------
 bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes, int width,
+  int height, float* out, std::string& error, const DenoiserOverrides* given, float* alpha)
+{
+  if (alpha && !passes[PassAlpha])
+  {
+    error = "the denoised opacity needs the Alpha pass";
+    return false;
+  }
+  if (!this->RunColor(settings, passes, width, height, out, error, given))
+  {
+    return false;
+  }
+  if (!alpha)
+  {
+    return true;
+  }
+  const double start = NowMs();
+  if (this->FilterLikeLast(passes[PassAlpha], alpha, settings.Threads))
+  {
+    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    ParallelFor(settings.Threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
+      [&](std::size_t begin, std::size_t end)
+      {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          if (alpha[i] == 0.0f)
+          {
+            out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = 0.0f;
+          }
+        }
+      });
+  }
+  this->Timings.Alpha = NowMs() - start;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool Denoiser::RunColor(const DenoiserSettings& settings, const float* const* passes, int width,
   int height, float* out, std::string& error, const DenoiserOverrides* given)
 {
   this->Timings = DenoiserTimings{};
   this->LastRanGrid = false;
+  this->LastWidth = width;
+  this->LastHeight = height;
   if (width <= 0 || height <= 0)
   {
     error = "cannot denoise an empty image (" + std::to_string(width) + " x " +
@@ -391,8 +430,6 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   this->LastGrid = grid;
   this->LastGridCuda = settings.UseCuda;
   this->LastRanGrid = true;
-  this->LastWidth = width;
-  this->LastHeight = height;
   return true;
 }
 

@@ -53,6 +53,7 @@ struct DenoiserOverrides
 struct DenoiserTimings
 {
   double Features = 0, GuideNet = 0, Splat = 0, Slice = 0; ///< ms of the last Run
+  double Alpha = 0; ///< ms of the last Run's opacity (Run's @a alpha; 0 without)
 };
 
 class Denoiser
@@ -65,19 +66,18 @@ public:
    * pass the features or the demodulation need, given features or guides of the wrong shape);
    * a model that cannot be used is not an error: the fixed guide takes over and TakeWarning()
    * says why, once.
+   *
+   * With @a alpha (width * height floats) the Alpha pass (then required) goes through the
+   * finest level of the same grid (FilterLikeLast) into @a alpha: the opacity to draw @a out
+   * with. Where it is 0 no pixel near this one in the finest level's space (4 pixels, a guide
+   * bin) has an event, so the colour the coarser levels spread there is set to 0 as well; with
+   * one level that colour is 0 already. An image model has no grid: @a alpha is then a copy of
+   * the Alpha pass and the colour stays.
    */
   bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
-    float* out, std::string& error, const DenoiserOverrides* given = nullptr);
+    float* out, std::string& error, const DenoiserOverrides* given = nullptr,
+    float* alpha = nullptr);
 
-  /**
-   * The last Run's finest bilateral grid level -- its guide and steps, on the same device --
-   * applied to the one-channel @a image (the last Run's size, interleaved like the passes)
-   * without demodulation or outlier clamp, into @a out (clamped to [0, 1]). The display draws the denoised
-   * image with the Alpha pass filtered so (the accumulated alpha of one frame is 0 or 1 per
-   * pixel). Returns false, with @a out a copy of @a image, when the last Run used no grid (an
-   * image-to-image model, or no successful Run yet).
-   */
-  bool FilterLikeLast(const float* image, float* out, int threads);
 
   /// Whether the last Run used GuideNet (else the fixed guide).
   bool GetNetworkActive() const { return this->NetworkActive; }
@@ -98,10 +98,20 @@ public:
   bool GetGridOnCuda() const { return this->Grid.GetLastOnCuda(); }
 
 private:
+  /**
+   * The last Run's finest bilateral grid level -- its guide and steps, on the same device --
+   * applied to the one-channel @a image (the last Run's size, interleaved like the passes)
+   * without demodulation or outlier clamp, into @a out (clamped to [0, 1]). Returns false,
+   * with @a out a copy of @a image, when the last Run used no grid (an image-to-image model).
+   */
+  bool FilterLikeLast(const float* image, float* out, int threads);
   bool EnsureModel(const DenoiserSettings& settings);
   /// The network's guides and weights (NetworkActive stays true) or false after a run error.
   bool RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done);
+  /// Run without the opacity.
+  bool RunColor(const DenoiserSettings& settings, const float* const* passes, int width,
+    int height, float* out, std::string& error, const DenoiserOverrides* given);
   /// The fixed guide's guides and weights from albedo, depth and normal.
   bool FixedGuide(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, std::string& error);

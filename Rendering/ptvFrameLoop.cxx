@@ -321,7 +321,10 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   }
   const double start = Now();
   std::string error;
-  if (!this->Denoising.Run(settings, passes, width, height, acc.Data(PassDenoised), error))
+  // With the opacity it is drawn with: Alpha through the same grid (one frame's alpha is 0 or 1
+  // per pixel, which would punch the denoised image back to its coverage).
+  if (!this->Denoising.Run(settings, passes, width, height, acc.Data(PassDenoised), error,
+        nullptr, acc.Data(PassDenoisedAlpha)))
   {
     messages.emplace_back(true, "Denoising failed: " + error);
     return false;
@@ -331,9 +334,6 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     messages.emplace_back(false, warning);
   }
-  // The opacity the denoised image is drawn with: Alpha through the same grid (one frame's
-  // alpha is 0 or 1 per pixel, which would punch the denoised image back to its coverage).
-  this->Denoising.FilterLikeLast(acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), request.Threads);
   // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
   const int levels = this->Denoising.GetLevels();
   const std::vector<float>& guideIn = this->Denoising.GetGuides();

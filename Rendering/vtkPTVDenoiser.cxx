@@ -187,9 +187,24 @@ bool vtkPTVDenoiser::Execute()
     result->SetNumberOfComponents(3);
     result->SetNumberOfTuples(pixels);
   }
-  if (!in.Core.Run(settings, passes, w, h, result->GetPointer(0), error, &given))
+  vtkSmartPointer<vtkFloatArray> alpha;
+  if (this->DenoiseAlpha)
   {
-    vtkErrorMacro(<< error);
+    alpha = vtkFloatArray::SafeDownCast(in.Output->GetPointData()->GetArray("DenoisedAlpha"));
+    if (!reuse || !alpha || alpha->GetNumberOfTuples() != pixels)
+    {
+      alpha = vtkSmartPointer<vtkFloatArray>::New();
+      alpha->SetName("DenoisedAlpha");
+      alpha->SetNumberOfComponents(1);
+      alpha->SetNumberOfTuples(pixels);
+    }
+  }
+  if (!in.Core.Run(settings, passes, w, h, result->GetPointer(0), error, &given,
+        alpha ? alpha->GetPointer(0) : nullptr))
+  {
+    vtkErrorMacro(<< (this->DenoiseAlpha && !passes[ptv::PassAlpha]
+                         ? "DenoiseAlpha is on but there is no 'Alpha' image"
+                         : error));
     return false;
   }
   const std::string warning = in.Core.TakeWarning();
@@ -204,6 +219,15 @@ bool vtkPTVDenoiser::Execute()
     in.Output->Initialize();
     in.Output->SetDimensions(w, h, 1);
     in.Output->GetPointData()->SetScalars(result);
+  }
+  if (alpha)
+  {
+    in.Output->GetPointData()->AddArray(alpha);
+    alpha->Modified();
+  }
+  else
+  {
+    in.Output->GetPointData()->RemoveArray("DenoisedAlpha");
   }
   vtkImageData* radiance = in.Images.Get("Radiance");
   in.Output->SetOrigin(radiance->GetOrigin());
@@ -291,6 +315,12 @@ double vtkPTVDenoiser::GetLastSliceTime()
 }
 
 //------------------------------------------------------------------------------
+double vtkPTVDenoiser::GetLastAlphaTime()
+{
+  return this->Internals->Core.GetTimings().Alpha;
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVDenoiser::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -302,6 +332,7 @@ void vtkPTVDenoiser::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PortableKernels: " << this->PortableKernels << "\n";
   os << indent << "UseCuda: " << this->UseCuda << " (last grid on "
      << (this->Internals->Core.GetGridOnCuda() ? "CUDA" : "the CPU") << ")\n";
+  os << indent << "DenoiseAlpha: " << this->DenoiseAlpha << "\n";
   const ptv::DenoiserSettings& s = this->Internals->Settings;
   for (int l = 0; l < ptv::kMaxGridLevels; ++l)
   {

@@ -151,6 +151,20 @@ public:
   bool GetLastGridOnCuda();
   ///@}
 
+  ///@{
+  /**
+   * Also denoise the opacity: the "Alpha" image (then required) through the finest level of the
+   * same grid, into the output's "DenoisedAlpha" array (1 component, [0, 1]): the opacity to
+   * draw the premultiplied "Denoised" colour with over a background (one frame's alpha is 0 or 1
+   * per pixel). Where it is 0 no nearby pixel in that level's space has an event, and the colour
+   * the coarser levels spread there is set to 0 too (with one level it is 0 already).
+   * vtkPathTracedVolumeMapper always does this. Default: off (the colour alone, like OIDN).
+   */
+  vtkSetMacro(DenoiseAlpha, bool);
+  vtkGetMacro(DenoiseAlpha, bool);
+  vtkBooleanMacro(DenoiseAlpha, bool);
+  ///@}
+
   /// The instruction set the grid's CPU kernels used in the last Execute() ("AVX3", "AVX2",
   /// "SSE4", "SCALAR", ...; "" before the first).
   const char* GetKernelTarget();
@@ -162,7 +176,8 @@ public:
    */
   bool Execute();
 
-  /// The last result (array "Denoised", 3 components); empty before the first Execute(). The
+  /// The last result (array "Denoised", 3 components, and with DenoiseAlpha "DenoisedAlpha");
+  /// empty before the first Execute(). The
   /// array is reused (overwritten) by the next Execute() of the same size: copy it to keep it.
   vtkImageData* GetOutput();
 
@@ -181,6 +196,8 @@ public:
   double GetLastGuideNetTime();
   double GetLastSplatTime();
   double GetLastSliceTime();
+  /// The opacity with DenoiseAlpha on (0 otherwise).
+  double GetLastAlphaTime();
   ///@}
 
 protected:
@@ -194,6 +211,7 @@ protected:
   int NumberOfThreads = 0;
   bool PortableKernels = false;
   bool UseCuda = false;
+  bool DenoiseAlpha = false;
 
 private:
   vtkPTVDenoiser(const vtkPTVDenoiser&) = delete;

@@ -30,7 +30,8 @@
  * the raw mean as samples accumulate). "HistoryLength" is the number of frames in each pixel's
  * accumulated mean (after a camera move: reprojected history, at most MaximumHistory, plus the
  * frames of the new view). "DenoisedAlpha" is the Alpha pass through the finest level of the
- * denoiser's grid (its guide, no clamp): Denoised is drawn with it as its opacity, and
+ * denoiser's grid (its guide, no clamp), and Denoised is 0 where it is 0 (vtkPTVDenoiser's
+ * DenoiseAlpha): Denoised is drawn with it as its opacity, and
  * Converged with the same per-pixel blend of it and Alpha as its colour's (ptvConvergence); one
  * frame's Alpha is 0 or 1 per pixel, which would show the background through every pixel whose
  * ray met no event however much colour the denoiser gave it.

@@ -150,3 +150,41 @@ def test_converged_is_drawn_between_alpha_and_denoised_alpha() -> None:
     assert inside.sum() > 100
     assert ((used >= lo) & (used <= hi))[inside].all()
     assert np.abs(used - alpha)[inside].max() > 0.05, "not just the accumulated Alpha"
+
+
+def test_vtk_denoiser_denoise_alpha_is_what_the_mapper_does() -> None:
+    window, mapper, _ = make_scene((0.0, 0.0, 0.0))
+    window.Render()
+    denoiser = ptv.vtkPTVDenoiser()
+    images = []
+    for i in range(9):  # the traced passes
+        name = mapper.GetPassName(i)
+        image = vtkImageData()
+        assert mapper.GetPass(name, image)
+        image.GetPointData().SetActiveScalars(name)
+        images.append(image)
+        denoiser.SetImage(name, image)
+    assert denoiser.Execute()
+    out = denoiser.GetOutput().GetPointData()
+    assert out.GetArray("DenoisedAlpha") is None, "off by default: the colour alone"
+    plain = vtk_numpy.vtk_to_numpy(out.GetArray("Denoised")).reshape(H, W, 3).copy()
+    denoiser.DenoiseAlphaOn()
+    assert denoiser.Execute()
+    out = denoiser.GetOutput().GetPointData()
+    color = vtk_numpy.vtk_to_numpy(out.GetArray("Denoised")).reshape(H, W, 3)
+    alpha = vtk_numpy.vtk_to_numpy(out.GetArray("DenoisedAlpha")).reshape(H, W)
+    assert np.array_equal(color, get_pass(mapper, "Denoised"))
+    assert np.array_equal(alpha, get_pass(mapper, "DenoisedAlpha")[..., 0])
+    assert denoiser.GetLastAlphaTime() > 0
+    empty = alpha == 0
+    assert (color[empty] == 0).all()
+    assert np.array_equal(color[~empty], plain[~empty]), "only the empty pixels change"
+    # Without the Alpha image it is an error, and the output keeps the last result.
+    kept = color.copy()
+    denoiser.SetImage("Alpha", None)
+    errors = []
+    denoiser.AddObserver("ErrorEvent", lambda obj, event: errors.append(event))
+    assert not denoiser.Execute()
+    assert errors
+    after = denoiser.GetOutput().GetPointData().GetArray("Denoised")
+    assert np.array_equal(vtk_numpy.vtk_to_numpy(after).reshape(H, W, 3), kept)

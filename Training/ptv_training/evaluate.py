@@ -55,16 +55,21 @@ LOSSES = {"l1": "L1(tonemap(out), tonemap(reference))",
 
 
 def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence[str],
-                threads: int = 0) -> Dict[str, Any]:
-    """Denoise ``passes`` (VTK row order) with vtkPTVDenoiser; output ``(H, W, 3)``."""
+                threads: int = 0, alpha: bool = False) -> Dict[str, Any]:
+    """Denoise ``passes`` (VTK row order) with vtkPTVDenoiser; output ``(H, W, 3)``. With
+    ``alpha`` as the mapper does (DenoiseAlpha: the Alpha pass, then required, through the grid
+    too, and the colour 0 where that opacity is 0)."""
     from pathtracedvolume import vtkPTVDenoiser
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
     den = vtkPTVDenoiser()
     den.SetModelFile(str(model_file))
     den.SetNumberOfThreads(threads)
+    den.SetDenoiseAlpha(alpha)
     images = []
-    for name in ["Radiance", "Albedo", *[n for n in names if n not in ("Radiance", "Albedo")]]:
+    extra = ["Alpha"] if alpha and "Alpha" not in names else []
+    for name in ["Radiance", "Albedo", *[n for n in [*names, *extra]
+                                         if n not in ("Radiance", "Albedo")]]:
         image = numpy_to_image(passes[name], name)
         images.append(image)
         den.SetImage(name, image)
