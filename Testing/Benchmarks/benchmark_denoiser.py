@@ -65,9 +65,12 @@ def measure(p: pb.Passes, args: argparse.Namespace, levels: int,
     1-thread and portable variants). Each method's ``times`` are kept for paired ratios."""
     ours: Dict[str, pb.Ours] = {}
     for count in range(1, levels + 1):
-        ours[level_name(count)] = pb.Ours(count, args.model)
-    ours[f"{level_name(default)}, 1 thread"] = pb.Ours(default, args.model, threads=1)
-    ours[f"{level_name(default)}, portable kernels"] = pb.Ours(default, args.model, portable=True)
+        ours[level_name(count)] = pb.Ours(count, args.model, alpha=False)
+    # The colour alone, like OIDN (the mapper also denoises the opacity: DenoiseAlpha).
+    ours[f"{level_name(default)}, 1 thread"] = pb.Ours(default, args.model, threads=1,
+                                                        alpha=False)
+    ours[f"{level_name(default)}, portable kernels"] = pb.Ours(default, args.model,
+                                                                portable=True, alpha=False)
     for o in ours.values():
         o.set_passes(p)
     # Round order: OIDN, then our portable-kernel run, then the others. The call right after

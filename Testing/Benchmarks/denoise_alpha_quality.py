@@ -1,4 +1,4 @@
-"""The denoised colour with and without the opacity step (vtkPTVDenoiser DenoiseAlpha), and OIDN fast.
+"""Our denoised colour with and without the opacity step (DenoiseAlpha), and OIDN fast.
 
 With ``DenoiseAlpha`` the Alpha pass goes through the finest level of the same grid and the
 colour is set to 0 where that opacity is 0 (no event near the pixel in that level's space):

@@ -141,7 +141,7 @@ def main() -> int:
         jobs = [(name, path, levels) for name, path in models
                 for levels in range(1, pb.model_levels(path) + 1)]
         for name, path, levels in tqdm(jobs, desc=dataset, leave=False):
-            m = run_ours(p, levels, str(path), args.repeats)
+            m = run_ours(p, levels, str(path), args.repeats, alpha=False)  # colour, like OIDN
             if not m["status"].startswith("GuideNet"):
                 raise RuntimeError(f"{path}: the denoiser fell back: {m['status']}")
             psnr, ssim = pb.quality(p["Reference"], m["image"])

@@ -26,7 +26,7 @@ from pathtracedvolume.metrics import quality, tonemap  # noqa: E402,F401 (the pr
 PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
           "ScatterDepth", "ScatterPosition", "ScatterNormal"]
 BACKGROUND = scene.BACKGROUND
-STAGES = ("features", "guidenet", "splat", "slice")
+STAGES = ("features", "guidenet", "splat", "slice", "alpha")
 SHIPPED_MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"
 
 T = TypeVar("T")
@@ -218,12 +218,15 @@ def model_default_levels(path: Union[str, Path] = "") -> int:
 
 
 class Ours:
-    """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels."""
+    """vtkPTVDenoiser (the shipped model unless ``model``) with ``levels`` grid levels; with
+    ``alpha`` (default) as the mapper runs it, the opacity too (DenoiseAlpha: the colour is 0
+    where the denoised opacity is 0), without it the colour alone (OIDN's task)."""
 
     def __init__(self, levels: int = 0, model: str = "", threads: int = 0,
-                 portable: bool = False) -> None:
+                 portable: bool = False, alpha: bool = True) -> None:
         from pathtracedvolume import vtkPTVDenoiser
         self.den = vtkPTVDenoiser()
+        self.den.SetDenoiseAlpha(bool(alpha))
         self.den.SetModelFile(model)
         self.den.SetNumberOfLevels(int(levels))
         self.den.SetNumberOfThreads(int(threads))
@@ -252,7 +255,8 @@ class Ours:
         """Milliseconds of the last Execute() per stage."""
         d = self.den
         return {"features": d.GetLastFeatureTime(), "guidenet": d.GetLastGuideNetTime(),
-                "splat": d.GetLastSplatTime(), "slice": d.GetLastSliceTime()}
+                "splat": d.GetLastSplatTime(), "slice": d.GetLastSliceTime(),
+                "alpha": d.GetLastAlphaTime()}
 
     def __call__(self, passes: Passes) -> np.ndarray:
         self.set_passes(passes)
@@ -267,9 +271,9 @@ class Ours:
 
 
 def run_ours(passes: Passes, levels: int, model: str, repeats: int,
-             threads: int = 0, portable: bool = False) -> Dict[str, Any]:
+             threads: int = 0, portable: bool = False, alpha: bool = True) -> Dict[str, Any]:
     """Our denoiser on ``passes``: median ms (and per stage) of ``repeats`` after a warm-up."""
-    ours = Ours(levels, model, threads, portable)
+    ours = Ours(levels, model, threads, portable, alpha)
     ours.set_passes(passes)
     stages: Dict[str, list] = {k: [] for k in STAGES}
 
