@@ -6,55 +6,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vtkmodules.util.numpy_support as vtk_numpy
 import pathtracedvolume.vtkPTVRendering as ptv
 
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction  # noqa: E402
-from vtkmodules.vtkImagingCore import vtkRTAnalyticSource  # noqa: E402
-from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer,  # noqa: E402
-                                         vtkRenderWindow, vtkVolume, vtkVolumeProperty)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: E402,F401
+from ptv_wavelet_scene import get_pass as wavelet_pass, wavelet_scene  # noqa: E402
 
 W, H = 40, 30
 
 
 def make_scene(seed: int):
-    source = vtkRTAnalyticSource()
-    source.SetWholeExtent(-10, 10, -10, 10, -10, 10)
-    color = vtkColorTransferFunction()
-    color.AddRGBPoint(37, 0.2, 0.4, 1.0)
-    color.AddRGBPoint(277, 1.0, 0.9, 0.5)
-    opacity = vtkPiecewiseFunction()
-    opacity.AddPoint(37, 0.0)
-    opacity.AddPoint(277, 0.6)
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.ShadeOn()
-    mapper = ptv.vtkPathTracedVolumeMapper()
-    mapper.ConvergeStillRendersOff()  # frame by frame
-    mapper.SetInputConnection(source.GetOutputPort())
-    mapper.SetSeed(seed)
-    mapper.DenoiseOff()
-    volume = vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
-    renderer = vtkRenderer()
-    renderer.AddVolume(volume)
-    renderer.SetBackground(0.5, 0.5, 0.5)
-    renderer.ResetCamera()
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(W, H)
-    window.AddRenderer(renderer)
-    return window, mapper, (source, prop, volume, renderer)
+    return wavelet_scene((W, H), seed=seed)
 
 
 def get_pass(mapper, name: str) -> np.ndarray:
-    image = vtkImageData()
-    assert mapper.GetPass(name, image)
-    assert image.GetDimensions() == (W, H, 1)
-    return vtk_numpy.vtk_to_numpy(image.GetPointData().GetArray(name)).copy()
+    return wavelet_pass(mapper, name, (W, H))
 
 
 def test_passes_are_numpy_arrays() -> None:

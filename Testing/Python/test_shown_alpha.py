@@ -17,12 +17,8 @@ import numpy as np
 import vtkmodules.util.numpy_support as vtk_numpy
 import pathtracedvolume.vtkPTVRendering as ptv
 
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction  # noqa: E402
-from vtkmodules.vtkImagingCore import vtkRTAnalyticSource  # noqa: E402
-from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer,  # noqa: E402
-                                         vtkRenderWindow, vtkVolume, vtkVolumeProperty,
-                                         vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: E402,F401
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
+from ptv_wavelet_scene import get_pass as wavelet_pass, read_window, wavelet_scene  # noqa: E402
 
 W, H = 64, 48
 # One unit of the window's 8 bits, and the rounding of colour + (1 - alpha) background into it.
@@ -30,51 +26,12 @@ LSB = 1.0 / 255.0
 
 
 def make_scene(background: Tuple[float, float, float]):
-    source = vtkRTAnalyticSource()
-    source.SetWholeExtent(-16, 16, -16, 16, -16, 16)
-    color = vtkColorTransferFunction()
-    color.AddRGBPoint(37, 0.2, 0.4, 1.0)
-    color.AddRGBPoint(277, 1.0, 0.9, 0.5)
-    opacity = vtkPiecewiseFunction()  # translucent: many rays of one frame meet no event
-    opacity.AddPoint(37, 0.0)
-    opacity.AddPoint(277, 0.05)
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.ShadeOn()
-    mapper = ptv.vtkPathTracedVolumeMapper()
-    mapper.ConvergeStillRendersOff()  # one frame per Render()
-    mapper.SetInputConnection(source.GetOutputPort())
-    mapper.DenoiseOn()
-    volume = vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
-    renderer = vtkRenderer()
-    renderer.AddVolume(volume)
-    renderer.SetBackground(*background)
-    renderer.ResetCamera()
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(W, H)
-    window.AddRenderer(renderer)
-    return window, mapper, (source, prop, volume, renderer)
+    # Translucent (opacity at most 0.05): many rays of one frame meet no event.
+    return wavelet_scene((W, H), extent=16, opacity=0.05, background=background, denoise=True)
 
 
 def get_pass(mapper, name: str) -> np.ndarray:
-    image = vtkImageData()
-    assert mapper.GetPass(name, image), name
-    values = vtk_numpy.vtk_to_numpy(image.GetPointData().GetArray(name)).copy()
-    return values.reshape(H, W, -1)
-
-
-def read_window(window) -> np.ndarray:
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ShouldRerenderOff()
-    grab.ReadFrontBufferOff()
-    grab.Update()
-    pixels = vtk_numpy.vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
-    return pixels.reshape(H, W, -1)[..., :3].astype(np.float64) / 255.0
+    return wavelet_pass(mapper, name, (W, H)).reshape(H, W, -1)
 
 
 def test_one_frame_is_drawn_with_denoised_alpha() -> None:
