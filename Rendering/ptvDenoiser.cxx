@@ -275,21 +275,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     return true;
   }
   const double start = NowMs();
-  if (this->FilterLikeLast(passes[PassAlpha], alpha, settings.Threads))
-  {
-    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    ParallelFor(settings.Threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
-      [&](std::size_t begin, std::size_t end)
-      {
-        for (std::size_t i = begin; i < end; ++i)
-        {
-          if (alpha[i] == 0.0f)
-          {
-            out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = 0.0f;
-          }
-        }
-      });
-  }
+  this->DenoiseOpacity(settings, passes[PassAlpha], width, height, alpha, out);
   this->Timings.Alpha = NowMs() - start;
   return true;
 }
@@ -300,8 +286,6 @@ bool Denoiser::RunColor(const DenoiserSettings& settings, const float* const* pa
 {
   this->Timings = DenoiserTimings{};
   this->LastRanGrid = false;
-  this->LastWidth = width;
-  this->LastHeight = height;
   if (width <= 0 || height <= 0)
   {
     error = "cannot denoise an empty image (" + std::to_string(width) + " x " +
@@ -428,24 +412,24 @@ bool Denoiser::RunColor(const DenoiserSettings& settings, const float* const* pa
   this->Timings.Splat = t.Demodulate + t.Splat;
   this->Timings.Slice = t.Slice;
   this->LastGrid = grid;
-  this->LastGridCuda = settings.UseCuda;
   this->LastRanGrid = true;
   return true;
 }
 
 //------------------------------------------------------------------------------
-bool Denoiser::FilterLikeLast(const float* image, float* out, int threads)
+void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alphaIn, int width,
+  int height, float* alpha, float* color)
 {
-  const std::size_t n =
-    static_cast<std::size_t>(this->LastWidth) * static_cast<std::size_t>(this->LastHeight);
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   if (!this->LastRanGrid)
   {
-    std::copy(image, image + n, out);
-    return false;
+    std::copy(alphaIn, alphaIn + n, alpha);
+    return;
   }
   // The finest level alone: an opacity's edges are the grid's finest features, and on the 256^2
   // Table-1 views all levels drew the window within 0.1 dB of it for twice the time
   // (Testing/Benchmarks/shown_alpha.py, 2026-12-03).
+  const int threads = settings.Threads;
   const std::size_t levels = static_cast<std::size_t>(this->Levels);
   this->Replicated.resize(3 * n);
   this->Filtered.resize(3 * n);
@@ -458,7 +442,7 @@ bool Denoiser::FilterLikeLast(const float* image, float* out, int threads)
     {
       for (std::size_t i = begin; i < end; ++i)
       {
-        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = image[i];
+        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = alphaIn[i];
         if (levels > 1)
         {
           fine[i] = guides[i * levels];
@@ -470,7 +454,7 @@ bool Denoiser::FilterLikeLast(const float* image, float* out, int threads)
   grid.Threads = threads;
   grid.Levels = 1;
   std::string cudaError; // a failing device falls back to the CPU, as in Run (warned there)
-  this->Grid.Apply(grid, this->LastGridCuda, this->LastWidth, this->LastHeight, rgb, nullptr,
+  this->Grid.Apply(grid, settings.UseCuda, width, height, rgb, nullptr,
     levels > 1 ? fine : guides, nullptr, this->Filtered.data(), cudaError);
   const float* filtered = this->Filtered.data();
   ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
@@ -478,9 +462,12 @@ bool Denoiser::FilterLikeLast(const float* image, float* out, int threads)
     {
       for (std::size_t i = begin; i < end; ++i)
       {
-        out[i] = std::min(1.0f, std::max(0.0f, filtered[3 * i]));
+        alpha[i] = std::min(1.0f, std::max(0.0f, filtered[3 * i]));
+        if (alpha[i] == 0.0f) // no event near: what is here came from the coarser levels
+        {
+          color[3 * i] = color[3 * i + 1] = color[3 * i + 2] = 0.0f;
+        }
       }
     });
-  return true;
 }
 }

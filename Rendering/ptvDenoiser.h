@@ -68,7 +68,7 @@ public:
    * says why, once.
    *
    * With @a alpha (width * height floats) the Alpha pass (then required) goes through the
-   * finest level of the same grid (FilterLikeLast) into @a alpha: the opacity to draw @a out
+   * finest level of the same grid (DenoiseOpacity) into @a alpha: the opacity to draw @a out
    * with. Where it is 0 no pixel near this one in the finest level's space (4 pixels, a guide
    * bin) has an event, so the colour the coarser levels spread there is set to 0 as well; with
    * one level that colour is 0 already. An image model has no grid: @a alpha is then a copy of
@@ -99,12 +99,13 @@ public:
 
 private:
   /**
-   * The last Run's finest bilateral grid level -- its guide and steps, on the same device --
-   * applied to the one-channel @a image (the last Run's size, interleaved like the passes)
-   * without demodulation or outlier clamp, into @a out (clamped to [0, 1]). Returns false,
-   * with @a out a copy of @a image, when the last Run used no grid (an image-to-image model).
+   * The last RunColor's finest grid level -- its guide and steps, on the device @a settings
+   * asks for -- applied to the opacity @a alphaIn without demodulation or outlier clamp, into
+   * @a alpha (clamped to [0, 1]), and @a color set to 0 where that is 0 (Run). Without a grid
+   * in the last run (an image-to-image model) @a alpha is a copy of @a alphaIn.
    */
-  bool FilterLikeLast(const float* image, float* out, int threads);
+  void DenoiseOpacity(const DenoiserSettings& settings, const float* alphaIn, int width,
+    int height, float* alpha, float* color);
   bool EnsureModel(const DenoiserSettings& settings);
   /// The network's guides and weights (NetworkActive stays true) or false after a run error.
   bool RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
@@ -125,11 +126,9 @@ private:
   FeatureBuilder FeatureMaker;
   GuideUpsampler Upsampler;
   std::vector<float> Features, NetOutput, Guides, Weights;
-  std::vector<float> Replicated, Filtered, FineGuide; // FilterLikeLast's scratch
-  BilateralGridSettings LastGrid;          // what the last Run's grid ran
-  bool LastGridCuda = false;
-  bool LastRanGrid = false;                // false: the last Run had no grid (or failed)
-  int LastWidth = 0, LastHeight = 0;
+  std::vector<float> Replicated, Filtered, FineGuide; // DenoiseOpacity's scratch
+  BilateralGridSettings LastGrid;          // what the last RunColor's grid ran
+  bool LastRanGrid = false;                // false: the last RunColor had no grid (or failed)
   int Levels = 0;
   bool NetworkActive = false;
   std::string Status, Warning;
