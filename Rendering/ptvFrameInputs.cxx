@@ -61,6 +61,14 @@ float RouletteThreshold()
   return kRouletteThreshold;
 }
 
+/// TraceParams::ExpectedCoverage, a study switch (Testing/Benchmarks/expected_coverage.py):
+/// PTV_EXPECTED_COVERAGE=1 turns it on.
+int ExpectedCoverage()
+{
+  const char* value = std::getenv("PTV_EXPECTED_COVERAGE");
+  return value && value[0] == '1' && value[1] == '\0' ? 1 : 0;
+}
+
 constexpr int kTableSize = 4096;
 constexpr int kGradientTableSize = 1024;
 // Occupancy bricks of 4^3 voxels: measured against 8^3 (benchmark_tracer.py, 512², 1 thread)
@@ -567,6 +575,9 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.Specular = static_cast<float>(prop->GetSpecular(0));
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
+  p.ExpectedCoverage = ExpectedCoverage();
+  const double coverage = static_cast<double>(p.ExpectedCoverage);
+  signature.AddExact(&coverage, 1);
   // Reach 0 sees no occluder at all (the unoccluded environment); 1 or more: the whole volume.
   const double reach = settings.AmbientOcclusionReach;
   p.AmbientOcclusion = settings.AmbientOcclusion && reach > 0.0 ? 1 : 0;

@@ -43,6 +43,14 @@
  *     with probability T_k a_k (T_k = prod_{j<k} (1 - a_j)), so E[Alpha] and E[Radiance] are
  *     exactly the front-to-back composite sum_k T_k a_k L_k. With Scattering = 0 the event is the
  *     first event (an isosurface-like first hit). The march stops at the event.
+ *  4b. ExpectedCoverage (a study switch; with Scattering, no CameraBoxed): the march goes on
+ *     past the event to tEnd, or until T < kCoverageCutoff; the ray's opacity
+ *     c = sum_k T_k a_k = 1 - T is stored as Alpha and the event is drawn among the samples
+ *     with probability T_k a_k / c (a weighted reservoir: sample k replaces the candidate when
+ *     u_k c_k < T_k a_k, c_k the running sum, one draw per absorbing sample), and Radiance =
+ *     c L(event). Same expectations as step 4 without the coin flip between event and no
+ *     event. Measured (Testing/Benchmarks/results/expected_coverage.md): not worth its cost on
+ *     the datasets' presets, so off.
  *  5. No event before tEnd: Radiance 0, Alpha 0 (premultiplied; the background is composited
  *     outside). Otherwise Alpha = 1, Depth2/Position2/Normal2 describe the event point x and
  *     Radiance = direct + ambient + env with c = colour at x:
@@ -142,6 +150,62 @@ PTV_HD PTV_INLINE PTV_NOINLINE void TraceIsoSurfaces(const TraceParams& p, Vec3 
     });
 }
 
+/// The camera ray of TracePixel() with ExpectedCoverage (step 4b), filling @a out.
+PTV_HD PTV_INLINE PTV_NOINLINE void TraceCoverage(const TraceParams& p, Vec3 origin, Vec3 dir,
+  Vec3 oIdx, Vec3 dIdx, Vec3 invD, float tStart, float tEnd, float xi, float stepOverUnit,
+  Rng& rng, PixelSample& out)
+{
+  const float step = p.StepWorld;
+  float T = 1.f;
+  float coverage = 0.f;
+  bool haveFirst = false;
+  bool chosenFirst = false;
+  float tEvent = 0.f;
+  Vec3 eventIdx = oIdx;
+  Vec3 eventColor = Vec3{ 0.f, 0.f, 0.f };
+  March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
+    [&](int, float t, Vec3 pIdx)
+    {
+      const TransferSample ts = ClassifyStep(p, pIdx, stepOverUnit);
+      const float a = ts.Opacity;
+      if (!(a > 0.f))
+      {
+        return false;
+      }
+      const bool first = !haveFirst;
+      if (first)
+      {
+        haveFirst = true;
+        out.Depth1 = t;
+        out.Position1 = origin + dir * t;
+        out.Normal1 = ShadingNormal(p, pIdx, dir);
+        out.Albedo = ts.Color;
+      }
+      const float w = T * a; // this sample's share of the ray's opacity
+      coverage += w;
+      if (NextFloat(rng) * coverage < w) // keeps sample k with probability w_k / sum_k w
+      {
+        chosenFirst = first;
+        tEvent = t;
+        eventIdx = pIdx;
+        eventColor = ts.Color;
+      }
+      T *= 1.f - a;
+      return T < kCoverageCutoff;
+    });
+  if (!(coverage > 0.f))
+  {
+    return;
+  }
+  const Vec3 event = origin + dir * tEvent;
+  const Vec3 n = chosenFirst ? out.Normal1 : ShadingNormal(p, eventIdx, dir);
+  out.Alpha = coverage;
+  out.Depth2 = tEvent;
+  out.Position2 = event;
+  out.Normal2 = n;
+  out.Radiance = ShadeEvent(p, event, dir, eventColor, n, rng) * coverage;
+}
+
 /**
  * A distributed piece's part of the camera ray: [t0, t1] clipped to CameraBox, and @a xi moved
  * so that the piece samples exactly where the ray through the whole volume (WholeBox, clipped
@@ -230,6 +294,11 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
     return out;
   }
   const float stepOverUnit = StepOverUnit(p, step);
+  if (p.ExpectedCoverage && p.Scattering && !p.CameraBoxed)
+  {
+    TraceCoverage(p, origin, dir, oIdx, dIdx, invD, tStart, tEnd, xi, stepOverUnit, rng, out);
+    return out;
+  }
   March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
     [&](int, float t, Vec3 pIdx)
     {

@@ -46,6 +46,12 @@ struct TraceParams
   int Shade;
   float Ambient, Diffuse, Specular, SpecularPower;
   int Scattering;       ///< 1: event at a random opacity threshold, 0: first non-transparent sample
+  /// Study switch (PTV_EXPECTED_COVERAGE=1; Testing/Benchmarks/expected_coverage.py), with
+  /// Scattering and a composite medium: 1 marches each camera ray to its end (until its
+  /// transmittance is below kCoverageCutoff), stores the ray's opacity as Alpha and draws the
+  /// event among its samples in proportion to their share of it (ptvIntegrator.h, step 4b);
+  /// 0 (default): the event decides Alpha, 0 or 1. Ignored with CameraBoxed.
+  int ExpectedCoverage;
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
   /// With AmbientOcclusion: the farthest an environment ray looks for occluders (world
   /// distance; what lies beyond does not occlude); <= 0: to the volume's exit.
@@ -70,6 +76,10 @@ struct TraceParams
 /// A depth below this fraction of the far distance is a hit (features.py: HIT_FRACTION); misses
 /// are stored at the far distance itself.
 constexpr float kHitFraction = 0.999f;
+
+/// ExpectedCoverage: a camera ray stops once its transmittance is below this; what lies behind
+/// would add less than this to its opacity (and its share of the radiance).
+constexpr float kCoverageCutoff = 1e-4f;
 
 struct PixelSample
 {

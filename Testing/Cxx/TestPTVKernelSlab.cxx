@@ -26,6 +26,7 @@
 // shadow jitter) and requires |discrete - closed form| < SE / 4, so the 3 SE test is meaningful.
 //
 // 3. The slab split into two pieces of a distributed volume and composited (SlabDirectLight).
+// 4. The slab of 1. with ExpectedCoverage (SlabExpectedCoverage).
 //
 // The slabs are traced with the opacity tables corrected per step (as the mapper does); with the
 // constant table the per-sample correction must give the same samples bit for bit.
@@ -34,6 +35,7 @@
 // et al. basis, and trilinear sampling / gradient / NormalToWorld on a linear field.
 #include "Kernels/ptvIntegrator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -216,6 +218,67 @@ bool Check(const char* what, double expected, const Stats& s, double discrete, b
     *ok = false;
   }
   return pass;
+}
+
+/**
+ * 4. ExpectedCoverage (ptvIntegrator.h, step 4b) on the slab of 1.: every ray stores the slab's
+ * opacity itself, so Alpha equals 1 - exp(-sigma L) on every pixel (float rounding of the 50
+ * products: 1e-5), E[Radiance] meets the same closed form (3 SE, discrete bias < SE / 4), and its
+ * standard error is below 0.85 of the default estimator's on the same pixels (the coin flip's
+ * variance is gone; measured: 0.32, a tenth of the variance).
+ */
+bool SlabExpectedCoverage()
+{
+  Slab s;
+  MakeSlab(s);
+  const double I = 1.5;
+  s.P.KeyLight.Radiance = ptv::MakeVec3(1.5f, 1.5f, 1.5f);
+  s.P.Environment = ptv::MakeVec3(0.f, 0.f, 0.f);
+  s.P.AmbientOcclusion = 0;
+  ptv::TraceParams coverage = s.P;
+  coverage.ExpectedCoverage = 1;
+  Stats rad, radDefault;
+  double alphaMin = 1.0, alphaMax = 0.0;
+  for (int f = 0; f < kFrames; ++f)
+  {
+    s.P.Frame = coverage.Frame = static_cast<uint32_t>(f + 3000);
+    for (int y = 0; y < kImage; ++y)
+    {
+      for (int x = 0; x < kImage; ++x)
+      {
+        const ptv::PixelSample ps = ptv::TracePixel(coverage, x, y);
+        alphaMin = std::min(alphaMin, static_cast<double>(ps.Alpha));
+        alphaMax = std::max(alphaMax, static_cast<double>(ps.Alpha));
+        rad.Add(ps.Radiance.x);
+        radDefault.Add(ptv::TracePixel(s.P, x, y).Radiance.x);
+      }
+    }
+  }
+  const double ds = kStep * kShadowScale;
+  const double oneMinusAs = std::exp(-kSigma * ds);
+  const double jDisc =
+    DiscreteExpectation([&](double z) { return ShadowExpectation(z, ds, oneMinusAs); });
+  const double j = (1.0 - std::exp(-2.0 * kSigma * kL)) / 2.0;
+  const double pAlpha = 1.0 - std::exp(-kSigma * kL);
+  std::printf("slab, directional light, ExpectedCoverage (%ld samples):\n", rad.N);
+  bool ok = true;
+  std::printf("  Alpha on every pixel  expected %.6f measured %.6f .. %.6f\n", pAlpha, alphaMin,
+    alphaMax);
+  if (!(std::fabs(alphaMin - pAlpha) < 1e-5 && std::fabs(alphaMax - pAlpha) < 1e-5))
+  {
+    std::printf("  FAILED: Alpha is not the slab's opacity on every pixel\n");
+    ok = false;
+  }
+  const double scale = s.Table[0] * I;
+  Check("E[Radiance.r]", scale * j, rad, scale * jDisc, &ok);
+  std::printf("  SE of the radiance: %.6f (default estimator %.6f)\n", rad.StdErr(),
+    radDefault.StdErr());
+  if (!(rad.StdErr() < 0.85 * radDefault.StdErr()))
+  {
+    std::printf("  FAILED: ExpectedCoverage does not lower the radiance's variance\n");
+    ok = false;
+  }
+  return ok;
 }
 
 /**
@@ -509,6 +572,7 @@ int TestPTVKernelSlab(int, char*[])
   ok = SlabDirectLight(false) && ok;
   ok = SlabEnvironment() && ok;
   ok = SlabDirectLight(true) && ok;
+  ok = SlabExpectedCoverage() && ok;
   ok = StepTablesChangeNothing() && ok;
   std::printf(ok ? "TestPTVKernelSlab passed\n" : "TestPTVKernelSlab FAILED\n");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
