@@ -54,6 +54,11 @@ HWY_INLINE VF Transform(DF d, const FeatureRowInput& in, VF v, VF mask)
       return Clip01(d, v);
     case FeatureTransform::Normal:
       return Clip01(d, hn::Mul(hn::Add(v, hn::Set(d, 1.0f)), hn::Set(d, 0.5f)));
+    case FeatureTransform::Inverse: // v >= 1 ? 1 / v : 1 (NaN fails the test: 1)
+    {
+      const auto one = hn::Set(d, 1.0f);
+      return hn::Div(one, hn::IfThenElse(hn::Ge(v, one), v, one));
+    }
     case FeatureTransform::Range:
     default:
     {

@@ -17,7 +17,8 @@ enum class FeatureTransform
           ///< within a few ulp of powf)
   Clip,   ///< clip(v, 0, 1) (NaN -> 0)
   Normal, ///< clip((v + 1) * 0.5, 0, 1)
-  Range   ///< hit (mask < HitLimit): Range > 0 ? clip((v - Low) / Range, 0, 1) : 0; else Miss
+  Range,  ///< hit (mask < HitLimit): Range > 0 ? clip((v - Low) / Range, 0, 1) : 0; else Miss
+  Inverse ///< 1 / max(v, 1), in (0, 1] (NaN -> 1, +inf -> 0): a frame count's newest share
 };
 
 /// One full-resolution row of one feature channel.

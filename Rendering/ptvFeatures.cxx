@@ -23,7 +23,8 @@ enum class Kind
   Albedo,
   Normal,
   Depth,
-  Position
+  Position,
+  History
 };
 
 struct Channel
@@ -90,6 +91,10 @@ bool Parse(const std::string& name, Channel& c)
   {
     return (c = { Kind::Alpha, PassAlpha, -1, 0 }), true;
   }
+  else if (name == "history")
+  {
+    return (c = { Kind::History, PassHistoryLength, -1, 0 }), true;
+  }
   else
   {
     return false;
@@ -130,6 +135,9 @@ void TransformRow(const Channel& c, const ChannelRange& r, const float* const* p
       break;
     case Kind::Normal:
       in.Transform = FeatureTransform::Normal;
+      break;
+    case Kind::History:
+      in.Transform = FeatureTransform::Inverse;
       break;
     case Kind::Depth:
     case Kind::Position:

@@ -319,6 +319,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     passes[p] = acc.Data(p);
   }
+  passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
   const double start = Now();
   std::string error;
   // With the opacity it is drawn with: Alpha through the same grid (one frame's alpha is 0 or 1

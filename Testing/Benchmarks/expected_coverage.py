@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Ablation: the camera ray's opacity as its Alpha (expected coverage) against the event's coin flip.
+"""Ablation: a camera ray's opacity as its Alpha (expected coverage) against the coin flip.
 
 Today a camera ray either has an event (Alpha 1, Radiance the event's) or not (Alpha 0, Radiance
 0), with the probability of its opacity c. The study switch PTV_EXPECTED_COVERAGE=1

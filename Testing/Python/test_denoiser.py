@@ -187,6 +187,40 @@ def test_cxx_matches_python_pipeline(passes, variant_models, variant, portable) 
     assert err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
 
 
+@pytest.mark.parametrize("portable", [False, True], ids=["dispatched", "portable"])
+def test_history_channel_matches_python(passes, tmp_path, portable) -> None:
+    """A model with the ``history`` channel (1 / max(1, HistoryLength), features.py) reads the
+    HistoryLength image as torch does -- fractional counts, counts below 1, NaN (one frame) and
+    +inf (0) -- within the parity tolerance of test_cxx_matches_python_pipeline; the channel
+    reaches the output (a history of 4 frames everywhere denoises otherwise than 1); without a
+    HistoryLength image such a model cannot run (an error, as any missing pass)."""
+    torch.manual_seed(7)
+    channels = features.PAPER_10 + ["history"]
+    net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8).eval()
+    path = export(net, tmp_path / "history.onnx", channels, levels=LEVELS)
+    h, w = H_of(passes), passes["Radiance"].shape[1]
+    frames = np.random.default_rng(3).uniform(0.0, 4.0, (h, w, 1)).astype(np.float32)
+    frames[0, 0], frames[0, 1], frames[1, 0] = np.nan, np.inf, 1.0
+    with_history = dict(passes, HistoryLength=frames)
+    plane = features.build_features(with_history, ["history"])[0]
+    assert plane[0, 0] == 1.0 and plane[0, 1] == 0.0 and plane[1, 0] == 1.0
+    ok, out, den, messages = cxx_denoise(with_history, str(path), PortableKernels=portable)
+    assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+    ref = torch_pipeline(with_history, net, channels)
+    span = float(ref.max() - ref.min())
+    err = float(np.abs(out - ref).max())
+    assert span > 0 and err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
+    outs = []
+    for count in (1.0, 4.0):
+        still = dict(passes, HistoryLength=np.full((h, w, 1), count, np.float32))
+        ok, out, den, messages = cxx_denoise(still, str(path), PortableKernels=portable)
+        assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+        outs.append(out)
+    assert not np.array_equal(outs[0], outs[1])
+    ok, _, _, messages = cxx_denoise(passes, str(path), PortableKernels=portable)
+    assert not ok and "error" in messages
+
+
 def test_model_default_levels(passes, tmp_path) -> None:
     """export(default_levels=D): above 256^2 pixels the C++ runs the finest D levels unless
     NumberOfLevels asks for others (up to the model's), exactly what NumberOfLevels = D gives;

@@ -265,6 +265,8 @@ def synthetic_passes(h: int, w: int, seed: int, far: float = 10.0):
         "ScatterDepth": where(scatter, rng.uniform(2.5, 6.0, (h, w)).astype(np.float32), far),
         "ScatterPosition": where(scatter, rng.uniform(-2, 2, (h, w, 3)).astype(np.float32), 0),
         "ScatterNormal": where(scatter, unit(scatter), 0.0),
+        # frames in each pixel's mean; below 1 and fractional as the mapper's faded history
+        "HistoryLength": rng.uniform(0.0, 3.5, (h, w, 1)).astype(np.float32),
     }
     return passes, hit, scatter
 
@@ -311,6 +313,10 @@ def test_build_features_shapes_ranges_and_misses() -> None:
     assert (plane["scatter_depth"][~scatter] == 1.0).all()
     assert (plane["scatter_position.z"][~scatter] == 0.0).all()
     assert (plane["scatter_normal.y"][~scatter] == 0.5).all()
+    # history: the newest frame's share of the mean, 1 / max(1, frames)
+    frames = passes["HistoryLength"][:, :, 0]
+    np.testing.assert_allclose(plane["history"], 1.0 / np.maximum(frames, 1.0), rtol=1e-6)
+    assert (plane["history"][frames <= 1.0] == 1.0).all()
     # Hits span [0, 1] per frame.
     d = passes["Depth"][:, :, 0]
     assert plane["depth"][hit].min() == 0.0 and plane["depth"][hit].max() == 1.0

@@ -70,6 +70,10 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
             passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(Path(path))
+            if "HistoryLength" not in passes:  # a still accumulation: spp frames everywhere
+                passes = dict(passes)
+                passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),
+                                                  np.float32(spp), np.float32)
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),

@@ -32,6 +32,9 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
     scatter_normal.*    as normal.*, from ScatterNormal
     scatter_depth       as depth, from ScatterDepth (hits are scattering events)
     scatter_position.*  as position.*, from ScatterPosition with the ScatterDepth hit mask
+    history             1 / max(1, HistoryLength) (NaN counts as 1, +inf gives 0): the share of
+                        the newest frame in the pixel's mean (a still accumulation of k
+                        frames: 1 / k; the mapper's reprojected history: its per-pixel count)
 
 ``far`` is the frame's maximum of that depth pass (the pass itself, no camera needed): when any
 pixel misses it is exactly the camera far distance. In a frame without misses the farthest 0.1 %
@@ -69,6 +72,7 @@ _KINDS: Dict[str, Tuple[str, str | None]] = {
     "scatter_normal": ("ScatterNormal", None),
     "scatter_depth": ("ScatterDepth", "ScatterDepth"),
     "scatter_position": ("ScatterPosition", "ScatterDepth"),
+    "history": ("HistoryLength", None),
 }
 _SUFFIXES = {"color": "rgb", "albedo": "rgb", "normal": "xyz", "position": "xyz",
              "scatter_normal": "xyz", "scatter_position": "xyz"}
@@ -182,7 +186,8 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
     planes: List[np.ndarray] = []
     shape: Tuple[int, int] | None = None
     components = {"Radiance": 3, "Alpha": 1, "Albedo": 3, "Depth": 1, "Position": 3,
-                  "Normal": 3, "ScatterDepth": 1, "ScatterPosition": 3, "ScatterNormal": 3}
+                  "Normal": 3, "ScatterDepth": 1, "ScatterPosition": 3, "ScatterNormal": 3,
+                  "HistoryLength": 1}
 
     def get(name: str) -> np.ndarray:
         nonlocal shape
@@ -205,6 +210,9 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
         x = get(source)[:, :, comp]
         if kind == "color":
             plane = np.clip(np.power(np.maximum(x, np.float32(0)), GAMMA), 0.0, 1.0)
+        elif kind == "history":  # 1 / frames in the pixel's mean: its noise variance scale
+            frames = np.where(np.isnan(x), np.float32(1), x)  # NaN: one frame (as the C++)
+            plane = np.float32(1) / np.maximum(frames, np.float32(1))
         elif kind in ("alpha", "albedo"):
             plane = np.clip(x, 0.0, 1.0)
         elif kind in ("normal", "scatter_normal"):
