@@ -117,6 +117,11 @@ struct ChannelRange
 void TransformRow(const Channel& c, const ChannelRange& r, const float* const* passes, int y,
   int width, bool portable, float* dst)
 {
+  if (!passes[c.Pass]) // only History may lack its pass (Build): one frame everywhere
+  {
+    std::fill(dst, dst + width, 1.0f);
+    return;
+  }
   const int comps = GetPassInfo(c.Pass).Components;
   const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
   FeatureRowInput in;
@@ -212,6 +217,10 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
       return false;
     }
     const Channel& c = this->Plans[i].Source;
+    if (c.What == Kind::History && !passes[c.Pass])
+    {
+      continue; // no HistoryLength: every pixel's mean is one frame (the feature's value 1)
+    }
     if (!passes[c.Pass] || (c.MaskPass >= 0 && !passes[c.MaskPass]))
     {
       error = "feature channel '" + channels[i] + "' needs pass '" +

@@ -4,8 +4,9 @@
  *
  * Give it the passes of a frame by name -- the names of vtkPathTracedVolumeMapper's passes:
  * "Radiance" (required), "Albedo", and whatever the model's feature channels need ("Normal",
- * "Depth", "ScatterNormal", "ScatterDepth", "HistoryLength" for a model with the history
- * channel, ...) -- as 2D float images (W x H x 1, one
+ * "Depth", "ScatterNormal", "ScatterDepth", ...; "HistoryLength", the frames in each pixel's
+ * mean, for a model with the "history" channel: without it every pixel counts one frame) --
+ * as 2D float images (W x H x 1, one
  * point-data array: the active scalars, or else the only array), call Execute() and read
  * GetOutput() (array "Denoised", 3 components; the Radiance image's origin and spacing).
  *

@@ -317,6 +317,8 @@ def test_build_features_shapes_ranges_and_misses() -> None:
     frames = passes["HistoryLength"][:, :, 0]
     np.testing.assert_allclose(plane["history"], 1.0 / np.maximum(frames, 1.0), rtol=1e-6)
     assert (plane["history"][frames <= 1.0] == 1.0).all()
+    no_count = {k: v for k, v in passes.items() if k != "HistoryLength"}
+    assert (F.build_features(no_count, ["history", "depth"])[0] == 1.0).all()
     # Hits span [0, 1] per frame.
     d = passes["Depth"][:, :, 0]
     assert plane["depth"][hit].min() == 0.0 and plane["depth"][hit].max() == 1.0

@@ -70,6 +70,8 @@ def cpp_denoise(model_file: Path, passes: Dict[str, np.ndarray], names: Sequence
     extra = ["Alpha"] if alpha and "Alpha" not in names else []
     for name in ["Radiance", "Albedo", *[n for n in [*names, *extra]
                                          if n not in ("Radiance", "Albedo")]]:
+        if name == "HistoryLength" and name not in passes:
+            continue  # a view's frame without history: both sides count one frame
         image = numpy_to_image(passes[name], name)
         images.append(image)
         den.SetImage(name, image)

@@ -34,7 +34,8 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
     scatter_position.*  as position.*, from ScatterPosition with the ScatterDepth hit mask
     history             1 / max(1, HistoryLength) (NaN counts as 1, +inf gives 0): the share of
                         the newest frame in the pixel's mean (a still accumulation of k
-                        frames: 1 / k; the mapper's reprojected history: its per-pixel count)
+                        frames: 1 / k; the mapper's reprojected history: its per-pixel count);
+                        without a HistoryLength pass every pixel counts one frame (1)
 
 ``far`` is the frame's maximum of that depth pass (the pass itself, no camera needed): when any
 pixel misses it is exactly the camera far distance. In a frame without misses the farthest 0.1 %
@@ -207,6 +208,11 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
     for name in channels:
         kind, comp = _channel(name)
         source, mask_pass = _KINDS[kind]
+        if kind == "history" and source not in passes:  # one frame everywhere (as the C++)
+            if shape is None:
+                shape = get("Radiance").shape[:2]
+            planes.append(np.ones(shape, np.float32))
+            continue
         x = get(source)[:, :, comp]
         if kind == "color":
             plane = np.clip(np.power(np.maximum(x, np.float32(0)), GAMMA), 0.0, 1.0)
