@@ -71,6 +71,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="orbit degrees per frame of the history-fade study")
     p.add_argument("--fade-angles", type=float, nargs="+", default=[180.0, 16.0, 8.0, 4.0],
                    help="history-fade angles to compare (180: no fade)")
+    p.add_argument("--model", default="",
+                   help="GuideNet ONNX file the mapper denoises with (default: the shipped one)")
     p.add_argument("--quick", action="store_true", help="a small run (tests, smoke checks)")
     p.add_argument("--out", type=Path, default=RESULTS, help="results folder")
     a = p.parse_args(argv)
@@ -93,11 +95,13 @@ def psnr_vs(image: np.ndarray, reference: np.ndarray) -> float:
 class Orbit:
     """One dataset's scene and the camera paths of the benchmark."""
 
-    def __init__(self, dataset: str, size: int) -> None:
+    def __init__(self, dataset: str, size: int, model: str = "") -> None:
         self.dataset = dataset
         self.scene = pb.scene_for(dataset, (size, size))
         self.mapper = self.scene.mapper
         self.mapper.DenoiseOn()
+        if model:  # another GuideNet than the shipped one
+            self.mapper.SetDenoiserModelFile(str(model))
         self.size = size
 
     def view(self, azimuth: float, pan: float = 0.0) -> None:
@@ -387,7 +391,9 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
              costs: Sequence[Dict[str, Any]], fades: Sequence[Dict[str, Any]],
              a: argparse.Namespace, command: str) -> str:
     md = ["# Temporal reuse while the camera moves", "",
-          f"`{command}` (idle machine; {a.size}², shipped model, Denoise on, the mapper's "
+          f"`{command}` (idle machine; {a.size}², "
+          f"{'model ' + Path(a.model).name if a.model else 'shipped model'}, Denoise on, "
+          "the mapper's "
           "shown image = its Converged pass).", "",
           "| dataset | case | method | mean tPSNR | min tPSNR | PSNR vs converged (mean) | "
           "min | raw PSNR | worst frame vs no history |",
@@ -440,7 +446,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rows: List[Dict[str, Any]] = []
     costs: List[Dict[str, Any]] = []
     for ds in tqdm(a.datasets_orbit, desc="orbits", unit="dataset"):
-        o = Orbit(ds, a.size)
+        o = Orbit(ds, a.size, a.model)
         run_case(o, "orbit", orbit_path(a.frames, a.step), a, rows, costs, histories=a.histories)
         if ds == a.datasets_orbit[0]:
             half = a.frames // 2
@@ -453,10 +459,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      rows, costs, histories=[a.default_history], with_oidn=False)
     fades: List[Dict[str, Any]] = []
     for ds in tqdm(a.datasets_orbit, desc="history fade", unit="dataset"):
-        fades += fade_study(Orbit(ds, a.size), a)
+        fades += fade_study(Orbit(ds, a.size, a.model), a)
     flick: List[Dict[str, Any]] = []
     for ds in tqdm(a.datasets_static, desc="static flicker", unit="dataset"):
-        flick += static_flicker(Orbit(ds, a.size), a.static_frames)
+        flick += static_flicker(Orbit(ds, a.size, a.model), a.static_frames)
     a.out.mkdir(parents=True, exist_ok=True)
     chart(a.out / "temporal_reuse.png", rows, a)
     table = [{k: v for k, v in r.items()
