@@ -150,6 +150,17 @@ PTV_HD PTV_INLINE PTV_NOINLINE void TraceIsoSurfaces(const TraceParams& p, Vec3 
     });
 }
 
+/// Step 3: the first-event fields of @a out, for the sample at ray distance @a t (index
+/// position @a pIdx, colour @a color).
+PTV_HD PTV_INLINE void SetFirstEvent(const TraceParams& p, Vec3 origin, Vec3 dir, float t,
+  Vec3 pIdx, Vec3 color, PixelSample& out)
+{
+  out.Depth1 = t;
+  out.Position1 = origin + dir * t;
+  out.Normal1 = ShadingNormal(p, pIdx, dir);
+  out.Albedo = color;
+}
+
 /// The camera ray of TracePixel() with ExpectedCoverage (step 4b), filling @a out.
 PTV_HD PTV_INLINE PTV_NOINLINE void TraceCoverage(const TraceParams& p, Vec3 origin, Vec3 dir,
   Vec3 oIdx, Vec3 dIdx, Vec3 invD, float tStart, float tEnd, float xi, float stepOverUnit,
@@ -176,10 +187,7 @@ PTV_HD PTV_INLINE PTV_NOINLINE void TraceCoverage(const TraceParams& p, Vec3 ori
       if (first)
       {
         haveFirst = true;
-        out.Depth1 = t;
-        out.Position1 = origin + dir * t;
-        out.Normal1 = ShadingNormal(p, pIdx, dir);
-        out.Albedo = ts.Color;
+        SetFirstEvent(p, origin, dir, t, pIdx, ts.Color, out);
       }
       const float w = T * a; // this sample's share of the ray's opacity
       coverage += w;
@@ -312,10 +320,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
       if (first)
       {
         haveFirst = true;
-        out.Depth1 = t;
-        out.Position1 = origin + dir * t;
-        out.Normal1 = ShadingNormal(p, pIdx, dir);
-        out.Albedo = ts.Color;
+        SetFirstEvent(p, origin, dir, t, pIdx, ts.Color, out);
       }
       T *= 1.f - a;
       if (p.Scattering && 1.f - T < threshold)

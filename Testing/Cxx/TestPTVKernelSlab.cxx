@@ -220,6 +220,16 @@ bool Check(const char* what, double expected, const Stats& s, double discrete, b
   return pass;
 }
 
+/// The slab of 1.: the directional light alone (no environment); returns its intensity I.
+double MakeDirectLightSlab(Slab& s)
+{
+  MakeSlab(s);
+  s.P.KeyLight.Radiance = ptv::MakeVec3(1.5f, 1.5f, 1.5f);
+  s.P.Environment = ptv::MakeVec3(0.f, 0.f, 0.f);
+  s.P.AmbientOcclusion = 0;
+  return 1.5;
+}
+
 /**
  * 4. ExpectedCoverage (ptvIntegrator.h, step 4b) on the slab of 1.: every ray stores the slab's
  * opacity itself, so Alpha equals 1 - exp(-sigma L) on every pixel (float rounding of the 50
@@ -230,11 +240,7 @@ bool Check(const char* what, double expected, const Stats& s, double discrete, b
 bool SlabExpectedCoverage()
 {
   Slab s;
-  MakeSlab(s);
-  const double I = 1.5;
-  s.P.KeyLight.Radiance = ptv::MakeVec3(1.5f, 1.5f, 1.5f);
-  s.P.Environment = ptv::MakeVec3(0.f, 0.f, 0.f);
-  s.P.AmbientOcclusion = 0;
+  const double I = MakeDirectLightSlab(s);
   ptv::TraceParams coverage = s.P;
   coverage.ExpectedCoverage = 1;
   Stats rad, radDefault;
@@ -292,11 +298,7 @@ bool SlabExpectedCoverage()
 bool SlabDirectLight(bool pieces)
 {
   Slab s;
-  MakeSlab(s);
-  const double I = 1.5;
-  s.P.KeyLight.Radiance = ptv::MakeVec3(1.5f, 1.5f, 1.5f);
-  s.P.Environment = ptv::MakeVec3(0.f, 0.f, 0.f);
-  s.P.AmbientOcclusion = 0;
+  const double I = MakeDirectLightSlab(s);
   ptv::TraceParams front = s.P, back = s.P;
   if (pieces)
   {

@@ -75,3 +75,22 @@ def read_window(window: Any) -> np.ndarray:
     w, h = window.GetSize()
     pixels = vtk_numpy.vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
     return pixels.reshape(h, w, -1)[..., :3].astype(np.float64) / 255.0
+
+
+TRACED_PASSES = 9  # the traced passes come first (vtkPathTracedVolumeMapper::GetPassName)
+
+
+def set_traced_passes(mapper: Any, denoiser: Any) -> list:
+    """Give ``denoiser`` (a vtkPTVDenoiser) the mapper's traced passes by name, as the mapper's
+    own denoise sees them; returns the images (keep them while the denoiser runs)."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    images = []
+    for i in range(TRACED_PASSES):
+        name = mapper.GetPassName(i)
+        image = vtkImageData()
+        assert mapper.GetPass(name, image), name
+        image.GetPointData().SetActiveScalars(name)
+        images.append(image)
+        denoiser.SetImage(name, image)
+    return images

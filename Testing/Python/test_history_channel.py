@@ -29,10 +29,9 @@ from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
 from ptv_training import features  # noqa: E402
 from ptv_training.export_onnx import export  # noqa: E402
 from ptv_training.guidenet import GuideNet  # noqa: E402
-from ptv_wavelet_scene import get_pass, wavelet_scene  # noqa: E402
+from ptv_wavelet_scene import get_pass, set_traced_passes, wavelet_scene  # noqa: E402
 
 W, H = 64, 48
-TRACED = 9  # the traced passes come first (vtkPathTracedVolumeMapper::GetPassName)
 
 
 @pytest.fixture(scope="module")
@@ -50,14 +49,7 @@ def vtk_denoise(mapper, history: np.ndarray) -> np.ndarray:
     denoiser = ptv.vtkPTVDenoiser()
     denoiser.SetModelFile(mapper.GetDenoiserModelFile())
     denoiser.DenoiseAlphaOn()
-    keep = []
-    for i in range(TRACED):
-        name = mapper.GetPassName(i)
-        image = vtkImageData()
-        assert mapper.GetPass(name, image)
-        image.GetPointData().SetActiveScalars(name)
-        keep.append(image)
-        denoiser.SetImage(name, image)
+    keep = set_traced_passes(mapper, denoiser)
     counts = vtk_numpy.numpy_to_vtk(np.ascontiguousarray(history, np.float32).reshape(-1, 1),
                                     deep=1)
     counts.SetName("HistoryLength")

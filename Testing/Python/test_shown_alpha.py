@@ -18,7 +18,8 @@ import vtkmodules.util.numpy_support as vtk_numpy
 import pathtracedvolume.vtkPTVRendering as ptv
 
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from ptv_wavelet_scene import get_pass as wavelet_pass, read_window, wavelet_scene  # noqa: E402
+from ptv_wavelet_scene import (get_pass as wavelet_pass, read_window,  # noqa: E402
+                               set_traced_passes, wavelet_scene)
 
 W, H = 64, 48
 # One unit of the window's 8 bits, and the rounding of colour + (1 - alpha) background into it.
@@ -113,14 +114,7 @@ def test_vtk_denoiser_denoise_alpha_is_what_the_mapper_does() -> None:
     window, mapper, _ = make_scene((0.0, 0.0, 0.0))
     window.Render()
     denoiser = ptv.vtkPTVDenoiser()
-    images = []
-    for i in range(9):  # the traced passes
-        name = mapper.GetPassName(i)
-        image = vtkImageData()
-        assert mapper.GetPass(name, image)
-        image.GetPointData().SetActiveScalars(name)
-        images.append(image)
-        denoiser.SetImage(name, image)
+    images = set_traced_passes(mapper, denoiser)
     assert denoiser.Execute()
     out = denoiser.GetOutput().GetPointData()
     assert out.GetArray("DenoisedAlpha") is None, "off by default: the colour alone"
