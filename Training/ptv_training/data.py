@@ -69,11 +69,7 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         dataset = str(meta.get("dataset", Path(path).stem.split("_")[0]))
         reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
-            passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(Path(path))
-            if "HistoryLength" not in passes:  # a still accumulation: spp frames everywhere
-                passes = dict(passes)
-                passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),
-                                                  np.float32(spp), np.float32)
+            passes = sample_passes(view, Path(path), spp)
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
@@ -86,6 +82,18 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
 #: The ``spp`` of a sample whose input is the view seen through the mapper's reprojected history
 #: (``history.py``: a few 1-spp frames along a short camera path ending at the view).
 HISTORY_SPP = 0
+
+
+def sample_passes(view: Dict, path: Path, spp: int) -> Dict[str, np.ndarray]:
+    """The input passes of one (view, spp) sample of ``view`` (``exr_io.read_view(path)``), with
+    a HistoryLength pass: the reprojected history's own for spp 0, ``spp`` frames everywhere
+    for a still accumulation."""
+    passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(path)
+    if "HistoryLength" not in passes:
+        passes = dict(passes)
+        passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),
+                                          np.float32(spp), np.float32)
+    return passes
 
 
 def _history_passes(path: Path) -> Dict[str, np.ndarray]:

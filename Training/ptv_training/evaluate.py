@@ -38,7 +38,7 @@ if __package__ in (None, ""):  # run as a file
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
-from .data import chw, psnr  # noqa: E402
+from .data import HISTORY_SPP, chw, psnr, sample_passes  # noqa: E402
 from .bilateral_grid import automatic_levels  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
 from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
@@ -135,6 +135,11 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     return p.parse_args(argv)
 
 
+def spp_key(spp: int) -> str:
+    """A sample kind's name in the card: "1spp", ... or "history" (``data.HISTORY_SPP``)."""
+    return "history" if spp == HISTORY_SPP else f"{spp}spp"
+
+
 def run_summary(run: Path) -> Dict[str, Any]:
     """Configuration, epochs and validation curve of a training run."""
     info = json.loads((run / "run.json").read_text())
@@ -182,7 +187,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         view = exr_io.read_view(data_dir / name)
         ref = view["reference"]
         for spp in info["spp"]:
-            passes = view["inputs"][spp]
+            passes = sample_passes(view, data_dir / name, spp)
             c = cpp_denoise(args.model, passes, names, args.threads)
             if not c["network_active"]:
                 raise RuntimeError(f"the network is not active: {c['status']}")
@@ -205,14 +210,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         entry: Dict[str, Any] = {"views": len({r["view"] for r in sel})}
         for spp in info["spp"]:
             s = [r for r in sel if r["spp"] == spp]
-            entry[f"{spp}spp"] = {"noisy": _mean(s, "noisy"), "denoised": _mean(s, "denoised")}
+            entry[spp_key(spp)] = {"noisy": _mean(s, "noisy"), "denoised": _mean(s, "denoised")}
         entry["16spp"] = _mean([r for r in sel if r["spp"] == info["spp"][0]], "spp16")
         table[ds] = entry
 
     print(f"{'dataset':10s} {'views':>5s} {'noisy 1spp':>11s} {'denoised':>9s} "
-          f"{'16 spp':>7s} | " + " ".join(f"{s}spp n/d" for s in info["spp"][1:]))
+          f"{'16 spp':>7s} | " + " ".join(f"{spp_key(s)} n/d" for s in info["spp"][1:]))
     for ds, e in table.items():
-        extra = " ".join(f"{e[f'{s}spp']['noisy']:5.2f}/{e[f'{s}spp']['denoised']:5.2f}"
+        extra = " ".join(f"{e[spp_key(s)]['noisy']:5.2f}/{e[spp_key(s)]['denoised']:5.2f}"
                          for s in info["spp"][1:])
         print(f"{ds:10s} {e['views']:5d} {e['1spp']['noisy']:11.2f} "
               f"{e['1spp']['denoised']:9.2f} {e['16spp']:7.2f} | {extra}")
