@@ -134,8 +134,8 @@ class GuideNet(nn.Module):
 
 
 def count_parameters(model: nn.Module) -> int:
-    """Number of trainable parameters."""
-    return sum(p.numel() for p in model.parameters() if p.requires_grad)
+    """Number of parameters (frozen ones too: the model's size)."""
+    return sum(p.numel() for p in model.parameters())
 
 
 def macs_per_pixel(model: GuideNet) -> float:
