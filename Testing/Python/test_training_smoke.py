@@ -113,6 +113,21 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert (run / "best.pt").is_file() and (run / "guides_best.png").is_file()
     assert model_file.is_file() and model_file.stat().st_size < 1 << 20
 
+    # --init/--adapt: the exported model plus a history channel of which only the first-layer
+    # weights train; everything else stays the init's.
+    adapted = tmp_path / "run_adapt"
+    assert train.main(["--data", str(data), "--out", str(adapted), "--val-per-dataset", "1",
+                       "--hidden", "4", "--batch", "2", "--max-steps", "2", "--threads", "2",
+                       "--channels", "VOLUME_FEATURES,history", "--spp", "1,0",
+                       "--init", str(model_file), "--adapt", "history", "--no-progress"]) == 0
+    init = torch.load(run / "best.pt")["model"]
+    new = torch.load(adapted / "last.pt")["model"]
+    assert torch.equal(new["core.0.weight"][:, :-1], init["core.0.weight"])
+    assert torch.equal(new["core.2.weight"], init["core.2.weight"])
+    assert new["core.0.weight"][:, -1].abs().max() > 0
+    assert torch.allclose(new["core.0.bias"],
+                          init["core.0.bias"] - new["core.0.weight"][:, -1].sum((1, 2)))
+
     channels = resolve_channels("VOLUME_FEATURES")
     passes = exr_io.read_view(data / json.loads((run / "run.json").read_text())["val_views"][0])
     passes = passes["inputs"][1]

@@ -63,6 +63,7 @@ from .features import resolve_channels  # noqa: E402
 from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
 from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
 from .unet import UNet  # noqa: E402
+from .warm_start import ChannelAdapter, warm_start  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -247,6 +248,14 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="wall-clock training budget over all sessions (default 20)")
     p.add_argument("--seed", type=int, default=0, help="torch/numpy seed (default 0)")
     p.add_argument("--threads", type=int, default=2, help="torch threads (default 2)")
+    p.add_argument("--init", type=Path, default=None,
+                   help="start from a trained model: a guidenet-v1 ONNX file or a checkpoint "
+                        "(same architecture; its channels copied by name, new ones at zero "
+                        "weight; warm_start.py)")
+    p.add_argument("--adapt", nargs="+", default=[], metavar="CHANNEL",
+                   help="with --init: train only these new channels' first-layer weights, the "
+                        "first bias compensated so that their neutral value (history: 1) keeps "
+                        "the init's output (warm_start.py)")
     p.add_argument("--resume", action="store_true", help="continue from <out>/last.pt")
     p.add_argument("--export-levels", type=int, default=0,
                    help="ship only the finest N grid levels in --export (default 0: all)")
@@ -299,7 +308,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                          levels=len(args.levels), stride=args.stride,
                          out_channels=args.out_channels or None,
                          kernel2=args.kernel2 or None)
-    optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)
+    adapter: Optional[ChannelAdapter] = None
+    if args.init is not None:
+        if not isinstance(model, GuideNet):
+            raise SystemExit("--init needs --arch guidenet")
+        try:
+            new = warm_start(model, channels, args.init)
+            if args.adapt:
+                adapter = ChannelAdapter(model, channels, args.adapt)
+        except (ValueError, FileNotFoundError) as error:
+            raise SystemExit(str(error))
+        print(f"initialised from {args.init} (new channels at zero weight: {new or 'none'})"
+              + (f"; training only {args.adapt}'s first-layer weights" if adapter else ""))
+    elif args.adapt:
+        raise SystemExit("--adapt needs --init")
+    trainable = adapter.parameters() if adapter else list(model.parameters())
+    optimizer = torch.optim.Adam(trainable, lr=args.lr)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
         optimizer, mode="max", factor=0.5, patience=max(args.lr_patience, 1), threshold=0.01,
         threshold_mode="abs", min_lr=1e-5)
@@ -373,6 +397,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             if args.clip_grad > 0:
                 torch.nn.utils.clip_grad_norm_(model.parameters(), args.clip_grad)
             optimizer.step()
+            if adapter:
+                adapter.project()
             losses.append(float(loss))
             state["steps"] += 1
             bar.set_postfix(loss=f"{np.mean(losses):.4f}")
