@@ -127,6 +127,14 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert new["core.0.weight"][:, -1].abs().max() > 0
     assert torch.allclose(new["core.0.bias"],
                           init["core.0.bias"] - new["core.0.weight"][:, -1].sum((1, 2)))
+    # --distill: every weight trains, the 1-spp samples also held to the init's output.
+    assert train.main(["--data", str(data), "--out", str(tmp_path / "run_distill"),
+                       "--val-per-dataset", "1", "--hidden", "4", "--batch", "2",
+                       "--max-steps", "2", "--threads", "2", "--channels",
+                       "VOLUME_FEATURES,history", "--spp", "1,0", "--init", str(model_file),
+                       "--distill", "1", "--no-progress"]) == 0
+    moved = torch.load(tmp_path / "run_distill" / "last.pt")["model"]
+    assert not torch.equal(moved["core.2.weight"], init["core.2.weight"])
 
     channels = resolve_channels("VOLUME_FEATURES")
     passes = exr_io.read_view(data / json.loads((run / "run.json").read_text())["val_views"][0])

@@ -63,7 +63,7 @@ from .features import resolve_channels  # noqa: E402
 from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
 from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
 from .unet import UNet  # noqa: E402
-from .warm_start import ChannelAdapter, warm_start  # noqa: E402
+from .warm_start import ChannelAdapter, Teacher, warm_start  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -256,6 +256,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="with --init: train only these new channels' first-layer weights, the "
                         "first bias compensated so that their neutral value (history: 1) keeps "
                         "the init's output (warm_start.py)")
+    p.add_argument("--distill", type=float, default=0.0, metavar="WEIGHT",
+                   help="with --init: add WEIGHT x the relative MSE between the output and the "
+                        "init model's on each 1-spp sample (keeps its single frames while every "
+                        "weight trains; default 0: off)")
     p.add_argument("--resume", action="store_true", help="continue from <out>/last.pt")
     p.add_argument("--export-levels", type=int, default=0,
                    help="ship only the finest N grid levels in --export (default 0: all)")
@@ -320,8 +324,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             raise SystemExit(str(error))
         print(f"initialised from {args.init} (new channels at zero weight: {new or 'none'})"
               + (f"; training only {args.adapt}'s first-layer weights" if adapter else ""))
-    elif args.adapt:
-        raise SystemExit("--adapt needs --init")
+    elif args.adapt or args.distill:
+        raise SystemExit("--adapt and --distill need --init")
+    teacher = Teacher(channels, args.init) if args.distill > 0 else None
     trainable = adapter.parameters() if adapter else list(model.parameters())
     optimizer = torch.optim.Adam(trainable, lr=args.lr)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
@@ -392,6 +397,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate,
                                      use_levels)
             loss = training_loss(result, ref, args.loss)
+            one = torch.tensor([train[i].spp == 1 for i in idx])
+            if teacher is not None and bool(one.any()):  # hold the 1-spp samples to the init
+                with torch.no_grad():
+                    target, _, _ = run_model(teacher.model, f[one][:, teacher.columns], r[one],
+                                             a[one], args.levels, args.clamp, args.demodulate,
+                                             use_levels)
+                loss = loss + args.distill * training_loss(result[one], target, "relmse")
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             if args.clip_grad > 0:

@@ -122,3 +122,20 @@ class ChannelAdapter:
     def project(self) -> None:
         """Store :meth:`bias` in the convolution's bias (checkpoints and exports read it)."""
         self.conv.bias.copy_(self.bias())
+
+
+class Teacher:
+    """The init model, frozen (``train.py --distill``): its output on a batch's features
+    restricted to its own channels, the target that holds the new model's 1-spp samples to it."""
+
+    def __init__(self, channels: Sequence[str], path: Path) -> None:
+        state, init_channels, config = load_init(path)
+        self.model = GuideNet(**config)
+        self.model.load_state_dict(state)
+        self.model.eval()
+        for p in self.model.parameters():
+            p.requires_grad_(False)
+        missing = [c for c in init_channels if c not in channels]
+        if missing:
+            raise ValueError(f"--init {path}: channels {missing} of the init are not inputs here")
+        self.columns = [list(channels).index(c) for c in init_channels]
