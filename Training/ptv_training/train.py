@@ -63,8 +63,8 @@ from .features import resolve_channels  # noqa: E402
 from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
 from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
 from .unet import UNet  # noqa: E402
-from .warm_start import ChannelAdapter, Teacher, warm_start  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
+from .warm_start import ChannelAdapter, Teacher, warm_start  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_DATA = REPO_ROOT / ".cache" / "training" / "v2"
@@ -397,8 +397,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate,
                                      use_levels)
             loss = training_loss(result, ref, args.loss)
-            one = torch.tensor([train[i].spp == 1 for i in idx])
-            if teacher is not None and bool(one.any()):  # hold the 1-spp samples to the init
+            one = torch.tensor([train[i].spp == 1 for i in idx]) if teacher else None
+            if one is not None and bool(one.any()):  # hold the 1-spp samples to the init
                 with torch.no_grad():
                     target, _, _ = run_model(teacher.model, f[one][:, teacher.columns], r[one],
                                              a[one], args.levels, args.clamp, args.demodulate,

@@ -1,5 +1,5 @@
-"""Start a GuideNet from a trained one (``train.py --init``) and adapt only new input channels
-(``train.py --adapt``).
+"""Start a GuideNet from a trained one (``train.py --init``), adapt only new input channels
+(``train.py --adapt``) or hold its 1-spp samples to the trained one (``train.py --distill``).
 
 ``--init`` reads a guidenet-v1 ONNX file (the shipped ``Data/Models/guidenet.onnx``: its
 initializers ``0.weight``, ``0.bias``, ``2.weight``, ``2.bias`` are ``GuideNet.core``'s) or a
@@ -13,9 +13,12 @@ whose mean holds one frame) and the first convolution's bias is kept at
 ``b0 - sum_taps(w_c) * neutral_c``, so an input whose new channel is neutral everywhere gives the
 init model's output exactly, except within the network's reach of the image border (6 pixels
 for two 3 x 3 convolutions at half resolution): the first convolution's zero padding leaves the
-padded taps' share of the compensation there. A model adapted
-this way adds what the new channel can tell without changing what the init model does on the
-inputs it was trained for: for the history channel, every single 1-spp frame.
+padded taps' share of the compensation there. A model adapted this way adds what the new
+channel can tell without changing what the init model does on the inputs it was trained for: for
+the history channel, every single 1-spp frame.
+
+``--distill`` trains every weight; ``Teacher`` is the init model, frozen, whose output on each
+1-spp sample (its own channels of the features) the new model's is also held to.
 """
 from __future__ import annotations
 
@@ -54,6 +57,14 @@ def load_init(path: Path) -> Tuple[Dict[str, torch.Tensor], List[str], Dict[str,
     return dict(ck["model"]), list(ck["channels"]), dict(ck["config"])
 
 
+def init_columns(init_channels: Sequence[str], channels: Sequence[str], path: Path) -> List[int]:
+    """Where each of the init's channels sits among ``channels`` (all must be there)."""
+    missing = [c for c in init_channels if c not in channels]
+    if missing:
+        raise ValueError(f"--init {path}: channels {missing} of the init are not inputs here")
+    return [list(channels).index(c) for c in init_channels]
+
+
 def warm_start(model: GuideNet, channels: Sequence[str], path: Path) -> List[str]:
     """Copy ``path``'s weights into ``model`` (module doc); returns the channels it lacks."""
     state, init_channels, config = load_init(path)
@@ -62,14 +73,11 @@ def warm_start(model: GuideNet, channels: Sequence[str], path: Path) -> List[str
                if k != "in_channels" and mine.get(k) != v}
     if differs:
         raise ValueError(f"--init {path}: architecture differs (init, this run): {differs}")
-    missing = [c for c in init_channels if c not in channels]
-    if missing:
-        raise ValueError(f"--init {path}: channels {missing} of the init are not inputs here")
+    columns = init_columns(init_channels, channels, path)
     new = [c for c in channels if c not in init_channels]
     first = state["core.0.weight"]
     weight = torch.zeros((first.shape[0], len(channels), *first.shape[2:]), dtype=first.dtype)
-    for i, name in enumerate(init_channels):
-        weight[:, channels.index(name)] = first[:, i]
+    weight[:, columns] = first
     state["core.0.weight"] = weight
     model.load_state_dict(state)
     return new
@@ -77,8 +85,9 @@ def warm_start(model: GuideNet, channels: Sequence[str], path: Path) -> List[str
 
 class ChannelAdapter:
     """Train only the first convolution's weights of ``adapt`` (module doc): freezes every other
-    parameter, masks the other channels' gradients, and after each optimizer step sets the first
-    bias so that neutral inputs keep the init's output (:meth:`project`)."""
+    parameter, masks the other channels' gradients and computes the first bias from the adapted
+    weights inside the graph (:meth:`bias`), so that neutral inputs keep the init's output;
+    :meth:`project` stores it in the bias parameter after each optimizer step."""
 
     def __init__(self, model: GuideNet, channels: Sequence[str], adapt: Sequence[str]) -> None:
         unknown = [c for c in adapt if c not in channels]
@@ -135,7 +144,4 @@ class Teacher:
         self.model.eval()
         for p in self.model.parameters():
             p.requires_grad_(False)
-        missing = [c for c in init_channels if c not in channels]
-        if missing:
-            raise ValueError(f"--init {path}: channels {missing} of the init are not inputs here")
-        self.columns = [list(channels).index(c) for c in init_channels]
+        self.columns = init_columns(init_channels, channels, path)
