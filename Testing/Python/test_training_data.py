@@ -135,3 +135,32 @@ def test_relative_mse_is_minimised_by_the_mean_of_noisy_targets() -> None:
             opt.step()
         assert float(x) == pytest.approx(expected, rel=0.03), kind
     assert float(targets.median()) < 0.8 * float(targets.mean())  # the two really differ
+
+
+def test_aux_spp_takes_every_pass_but_radiance_from_the_longer_accumulation(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """``train.py --aux-spp``: a 1- or 2-spp sample keeps its own radiance and takes the
+    auxiliary passes of the 4-spp accumulation; the 4-spp sample and aux_spp 0 are unchanged."""
+    import torch
+
+    from ptv_training import data
+    from ptv_training.exr_io import PASS_CHANNELS
+    from ptv_training.features import PAPER_10, build_features
+
+    rng = np.random.default_rng(3)
+    inputs = {spp: {name: rng.uniform(0.1, 1.0, (6, 5, len(ch))).astype(np.float32)
+                    for name, ch in PASS_CHANNELS.items()} for spp in (1, 2, 4)}
+    for spp in inputs:  # hits everywhere, so every feature depends on its pass
+        inputs[spp]["Depth"] *= 0.5
+    image = rng.uniform(0.1, 1.0, (6, 5, 3)).astype(np.float32)
+    view = {"inputs": inputs, "reference": image, "spp16": image, "view": {"dataset": "toy"}}
+    monkeypatch.setattr(data.exr_io, "read_view", lambda path: view)
+
+    plain = data.load_samples([Path("toy_000.exr")], PAPER_10, (1, 2, 4))
+    mixed = data.load_samples([Path("toy_000.exr")], PAPER_10, (1, 2, 4), aux_spp=4)
+    for spp, a, b in zip((1, 2, 4), plain, mixed):
+        assert torch.equal(a.radiance, b.radiance)  # always the sample's own radiance
+        passes = dict(inputs[4], Radiance=inputs[spp]["Radiance"],
+                      HistoryLength=np.full((6, 5, 1), spp, np.float32))
+        assert torch.equal(b.features, torch.from_numpy(build_features(passes, PAPER_10)))
+        assert torch.equal(a.features, b.features) == (spp == 4)

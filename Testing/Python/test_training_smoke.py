@@ -207,6 +207,20 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert all(np.isfinite(r["psnr"]) for r in rows)
     assert "| mean 12² |" in table and len(list((tmp_path / "paper").glob("*.npz"))) == 6
 
+    # aux_spp.py (--aux-spp study): the exported model on plain and 4-spp-feature inputs; a
+    # 4-spp-feature input differs from the plain one, so OIDN's two rows differ.
+    from ptv_training import aux_spp
+    out = tmp_path / "aux_spp"
+    assert aux_spp.main(["--data", str(data), "--model", f"m={model_file}", "--aux-model",
+                         f"m={model_file}", "--sizes", "12", "--paper-reference-spp", "4",
+                         "--paper-cache", str(tmp_path / "paper"), "--out", str(out)]) == 0
+    rows = json.loads(out.with_suffix(".json").read_text())["rows"]
+    assert {r["method"] for r in rows} == {"noisy 1 spp", "OIDN RT fast", "m",
+                                           "OIDN RT fast, 4-spp features", "m, 4-spp features"}
+    assert all(np.isfinite(r["psnr"]) for r in rows) and len(rows) == 5 * (6 + 1)
+    psnrs = {(r["view"], r["method"]): r["psnr"] for r in rows}
+    assert any(psnrs[v, "m"] != psnrs[v, "m, 4-spp features"] for v, _ in psnrs)
+
     # level_probe.py: the blend and each level alone on both views; a level forced alone is
     # exactly the grid run with that model's finest level only (run_model, use_levels=1).
     from pathtracedvolume.metrics import psnr

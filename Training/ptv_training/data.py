@@ -58,8 +58,11 @@ class Sample:
 
 
 def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[int] = (1, 2, 4),
-                 keep_passes: bool = False, progress: bool = False) -> List[Sample]:
-    """Samples for every file and spp (in that order)."""
+                 keep_passes: bool = False, progress: bool = False,
+                 aux_spp: int = 0) -> List[Sample]:
+    """Samples for every file and spp (in that order). ``aux_spp`` > 0: every still sample of
+    fewer spp takes its auxiliary passes (all but Radiance) from the view's ``aux_spp``
+    accumulation (:func:`with_aux_passes`)."""
     from tqdm import tqdm
 
     samples: List[Sample] = []
@@ -70,6 +73,8 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
             passes = sample_passes(view, Path(path), spp)
+            if aux_spp and spp != HISTORY_SPP and spp < aux_spp:
+                passes = with_aux_passes(passes, view["inputs"][aux_spp])
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
@@ -94,6 +99,17 @@ def sample_passes(view: Dict, path: Path, spp: int) -> Dict[str, np.ndarray]:
         passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),
                                           np.float32(spp), np.float32)
     return passes
+
+
+def with_aux_passes(passes: Dict[str, np.ndarray], aux: Dict[str, np.ndarray]
+                    ) -> Dict[str, np.ndarray]:
+    """``passes`` with every auxiliary pass (all but Radiance and HistoryLength) replaced by
+    ``aux``'s: the radiance of few samples with the anti-aliased features of more (the study
+    of ``train.py --aux-spp``, ``aux_spp.py``)."""
+    out = dict(passes)
+    out.update({name: image for name, image in aux.items()
+                if name not in ("Radiance", "HistoryLength")})
+    return out
 
 
 def _history_passes(path: Path) -> Dict[str, np.ndarray]:

@@ -215,6 +215,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--spp", default="1,2,4",
                    help="input spp used for training (default 1,2,4; 0: the view after a "
                         "reprojected history, history.py)")
+    p.add_argument("--aux-spp", type=int, default=0, choices=(0, 2, 4),
+                   help="study: samples of fewer spp take their auxiliary passes from this "
+                        "spp's accumulation (anti-aliased features; the C++ mapper has no such "
+                        "input yet; default 0: off)")
     p.add_argument("--val-per-dataset", type=int, default=3,
                    help="views per dataset held out for validation (default 3)")
     p.add_argument("--exclude", nargs="*", default=[], metavar="DATASET",
@@ -299,8 +303,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if args.max_views:
         train_files = train_files[:args.max_views]
     progress = not args.no_progress
-    train = load_samples(train_files, channels, spps, progress=progress)
-    val = load_samples(val_files, channels, spps, progress=progress)
+    train = load_samples(train_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
+    val = load_samples(val_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
     if not train:
         raise SystemExit("no training views")
 
