@@ -9,7 +9,9 @@ below 0.8 of the reference, and the PSNR. A denoiser that lets pinholes through 
 at the pinholes well below the one elsewhere.
 
     PYTHONPATH=build/python .venv/bin/python Testing/Benchmarks/pinholes.py \\
-        Data/Models/guidenet.onnx
+        Data/Models/guidenet.onnx "older model=old.onnx" --markdown out.md
+
+A model is ``PATH`` or ``LABEL=PATH``; ``--markdown`` also writes the figures as a table.
 """
 from __future__ import annotations
 
@@ -30,10 +32,11 @@ LUMA = np.array([0.2126, 0.7152, 0.0722])
 
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("models", nargs="*", type=Path, help="GuideNet .onnx files")
+    p.add_argument("models", nargs="*", help="GuideNet .onnx files, PATH or LABEL=PATH")
     p.add_argument("--dataset", default="head")
     p.add_argument("--size", type=int, default=512)
     p.add_argument("--cache", type=Path, default=HERE.parents[1] / ".cache" / "bench")
+    p.add_argument("--markdown", type=Path, help="also write the figures as a markdown table")
     args = p.parse_args()
     from pathtracedvolume.metrics import psnr
     from ptv_training.evaluate import cpp_denoise
@@ -47,14 +50,28 @@ def main() -> int:
           "covered pixels")
     inputs = {n: passes[n] for n in pb.PASSES}
     images = {"OIDN RT fast": pb.oidn(inputs, "fast")}
-    for model in args.models:
-        images[str(model)] = cpp_denoise(model, inputs, pb.PASSES, threads=2)["output"]
+    for spec in args.models:
+        label, _, path = spec.rpartition("=")
+        images[label or path] = cpp_denoise(Path(path), inputs, pb.PASSES, threads=2)["output"]
+    rows = []
     for name, image in images.items():
         ratio = lum(image) / np.maximum(lum(ref), 1e-6)
-        print(f"{name}: denoised/reference at pinholes {np.median(ratio[pins]):.3f}, elsewhere "
-              f"{np.median(ratio[covered & ~pins]):.3f}; below 0.8 of the reference "
-              f"{((ratio < 0.8) & covered).sum() / covered.sum():.4f}; "
-              f"PSNR {psnr(image, ref):.2f} dB")
+        row = (name, np.median(ratio[pins]), np.median(ratio[covered & ~pins]),
+               ((ratio < 0.8) & covered).sum() / covered.sum(), psnr(image, ref))
+        rows.append(row)
+        print(f"{name}: denoised/reference at pinholes {row[1]:.3f}, elsewhere {row[2]:.3f}; "
+              f"below 0.8 of the reference {row[3]:.4f}; PSNR {row[4]:.2f} dB")
+    if args.markdown:
+        from evaluation.common import md_table
+        lines = [f"{args.dataset} {args.size}², 1 spp, 64-spp reference: pinholes (covered pixels "
+                 f"below 1/4 of the reference's luminance) {pins.sum() / covered.sum():.4f} of the "
+                 "covered pixels", "",
+                 *md_table(["denoiser", "denoised / reference at pinholes (median)",
+                            "elsewhere (median)", "covered pixels below 0.8 of the reference",
+                            "PSNR [dB]"],
+                           [(r[0], f"{r[1]:.3f}", f"{r[2]:.3f}", f"{100 * r[3]:.2f} %",
+                             f"{r[4]:.2f}") for r in rows]), ""]
+        args.markdown.write_text("\n".join(lines))
     return 0
 
 
