@@ -113,6 +113,31 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert (run / "best.pt").is_file() and (run / "guides_best.png").is_file()
     assert model_file.is_file() and model_file.stat().st_size < 1 << 20
 
+    # --small-stride: the steps that run every level (the small-image case) run GuideNet at
+    # that stride, the one-level steps at --stride; validation and the checkpoint keep --stride.
+    seen = []
+    original = train.run_model
+
+    def spy(model, *a, **k):
+        use = a[6] if len(a) > 6 else k.get("use_levels")
+        seen.append((use, getattr(model, "stride", None)))
+        return original(model, *a, **k)
+
+    train.run_model = spy
+    try:
+        assert train.main(["--data", str(data), "--out", str(tmp_path / "run_small"),
+                           "--val-per-dataset", "1", "--hidden", "4", "--batch", "2",
+                           "--max-steps", "8", "--threads", "2", "--stride", "2",
+                           "--level-counts", "1,3", "--small-stride", "1",
+                           "--no-progress"]) == 0
+    finally:
+        train.run_model = original
+    assert {(3, 1), (1, 2)} <= set(seen)  # both kinds of step ran (8 draws)
+    assert all(st == (1 if use == 3 else 2) for use, st in seen)  # validation: None -> 2
+    assert torch.load(tmp_path / "run_small" / "best.pt")["config"]["stride"] == 2
+    with pytest.raises(SystemExit):  # every level always: no step would run at stride 2
+        train.main(["--data", str(data), "--out", str(tmp_path / "bad"), "--small-stride", "1"])
+
     # --init/--adapt: the exported model plus a history channel of which only the first-layer
     # weights train; everything else stays the init's.
     adapted = tmp_path / "run_adapt"

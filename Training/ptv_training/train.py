@@ -236,6 +236,13 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                         "does with fewer levels, so that the model is trained for each count it "
                         "runs with (the default count on large images is ptv.default_levels); "
                         "default: every level, always")
+    p.add_argument("--small-stride", type=int, default=0,
+                   help="study: the level-dropout steps that run every level (the denoiser's "
+                        "case at or below 256^2 pixels) run GuideNet at this stride instead of "
+                        "--stride, the others at --stride; validation and the export use "
+                        "--stride (the C++ does not pick a stride by image size yet: measure the "
+                        "small-image case with the export's ptv.guide_stride set to this). "
+                        "Default 0: off")
     p.add_argument("--lr-schedule", choices=("plateau", "cosine"), default="plateau",
                    help="plateau: halve the rate after --lr-patience epochs without a better "
                         "validation PSNR (default); cosine: lower it along a cosine to 1%% of "
@@ -284,6 +291,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if any(not 1 <= n <= len(args.levels) for n in level_counts):
         raise SystemExit(f"--level-counts {args.level_counts}: each count must be 1 to "
                          f"{len(args.levels)} (the levels trained)")
+    if args.small_stride and not (len(args.levels) in level_counts and min(level_counts) <
+                                  len(args.levels) and args.small_stride in (1, 2, 4, 8)):
+        raise SystemExit(f"--small-stride {args.small_stride}: needs a stride of 1, 2, 4 or 8 and "
+                         f"--level-counts with {len(args.levels)} (every level) and a smaller "
+                         "count")
+    if args.small_stride and (args.distill or args.arch != "guidenet"):
+        raise SystemExit("--small-stride is for a GuideNet trained without --distill")
     if args.lr_schedule == "cosine" and args.max_steps <= 0:
         raise SystemExit("--lr-schedule cosine needs --max-steps")
     torch.set_num_threads(max(1, args.threads))
@@ -398,8 +412,15 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             use_levels = None
             if level_counts and isinstance(model, GuideNet):
                 use_levels = level_counts[int(rng.integers(0, len(level_counts)))]
-            result, _, _ = run_model(model, f, r, a, args.levels, args.clamp, args.demodulate,
-                                     use_levels)
+            trained_stride = model.stride if isinstance(model, GuideNet) else 1
+            if args.small_stride and use_levels == len(args.levels):
+                model.stride = args.small_stride  # the small-image case (--small-stride)
+            try:
+                result, _, _ = run_model(model, f, r, a, args.levels, args.clamp,
+                                         args.demodulate, use_levels)
+            finally:
+                if isinstance(model, GuideNet):
+                    model.stride = trained_stride
             loss = training_loss(result, ref, args.loss)
             one = torch.tensor([train[i].spp == 1 for i in idx]) if teacher else None
             if one is not None and bool(one.any()):  # hold the 1-spp samples to the init
