@@ -412,14 +412,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             use_levels = None
             if level_counts and isinstance(model, GuideNet):
                 use_levels = level_counts[int(rng.integers(0, len(level_counts)))]
-            trained_stride = model.stride if isinstance(model, GuideNet) else 1
+            trained_stride = model.stride if args.small_stride else None  # a GuideNet (checked)
             if args.small_stride and use_levels == len(args.levels):
-                model.stride = args.small_stride  # the small-image case (--small-stride)
+                model.stride = args.small_stride  # the small-image case, for this step only
             try:
                 result, _, _ = run_model(model, f, r, a, args.levels, args.clamp,
                                          args.demodulate, use_levels)
             finally:
-                if isinstance(model, GuideNet):
+                if trained_stride is not None:
                     model.stride = trained_stride
             loss = training_loss(result, ref, args.loss)
             one = torch.tensor([train[i].spp == 1 for i in idx]) if teacher else None
