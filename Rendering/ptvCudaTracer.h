@@ -20,6 +20,15 @@ namespace ptv
 {
 class PassBuffers;
 
+/// Milliseconds of the phases of the last CudaTracer::Trace (host wall clock; the kernel by CUDA
+/// events around its launch).
+struct CudaTraceTimings
+{
+  double Upload = 0.0;   ///< volume (when it changed), tables, occupancy, depth limits
+  double Kernel = 0.0;   ///< TraceKernel alone
+  double Download = 0.0; ///< the passes back into the frame's pass buffers
+};
+
 class CudaTracer
 {
 public:
@@ -38,9 +47,12 @@ public:
   /// Free the device memory.
   void Release();
 
+  const CudaTraceTimings& GetLastTimings() const { return this->Timings; }
+
 private:
   struct Internals;
   std::unique_ptr<Internals> Impl;
+  CudaTraceTimings Timings;
 };
 }
 

@@ -24,13 +24,6 @@ const PassInfo kPasses[PassCount] = {
   { "HistoryLength", 1 },
   { "DenoisedAlpha", 1 },
 };
-
-void Put3(std::vector<float>& b, int pixel, const Vec3& v)
-{
-  b[3 * pixel + 0] = v.x;
-  b[3 * pixel + 1] = v.y;
-  b[3 * pixel + 2] = v.z;
-}
 }
 
 //------------------------------------------------------------------------------
@@ -82,17 +75,20 @@ void PassBuffers::Clear()
 }
 
 //------------------------------------------------------------------------------
+TracedPassPlanes PassBuffers::Planes()
+{
+  TracedPassPlanes planes;
+  for (int pass = 0; pass < kTracedPassCount; ++pass)
+  {
+    planes.Data[pass] = this->Buffers[pass].data();
+  }
+  return planes;
+}
+
+//------------------------------------------------------------------------------
 void PassBuffers::Store(int pixel, const PixelSample& s)
 {
-  Put3(this->Buffers[PassRadiance], pixel, s.Radiance);
-  this->Buffers[PassAlpha][pixel] = s.Alpha;
-  Put3(this->Buffers[PassAlbedo], pixel, s.Albedo);
-  this->Buffers[PassDepth][pixel] = s.Depth1;
-  Put3(this->Buffers[PassPosition], pixel, s.Position1);
-  Put3(this->Buffers[PassNormal], pixel, s.Normal1);
-  this->Buffers[PassScatterDepth][pixel] = s.Depth2;
-  Put3(this->Buffers[PassScatterPosition], pixel, s.Position2);
-  Put3(this->Buffers[PassScatterNormal], pixel, s.Normal2);
+  StoreSample(this->Planes(), static_cast<std::size_t>(pixel), s);
 }
 
 //------------------------------------------------------------------------------

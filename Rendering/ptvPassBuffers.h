@@ -8,6 +8,7 @@
 
 #include "Kernels/ptvIntegrator.h"
 
+#include <cstddef>
 #include <vector>
 
 namespace ptv
@@ -50,6 +51,38 @@ struct PassInfo
 
 const PassInfo& GetPassInfo(int pass);
 
+/// The traced passes' storage: one pointer per pass (PassId < kTracedPassCount), each pass
+/// interleaved (GetPassInfo's components per pixel), pixels x fastest.
+struct TracedPassPlanes
+{
+  float* Data[kTracedPassCount];
+};
+
+/// Write @a v at pixel @a pixel of a 3-component pass.
+PTV_HD PTV_INLINE void StoreVec3(float* plane, std::size_t pixel, const Vec3& v)
+{
+  plane[3 * pixel + 0] = v.x;
+  plane[3 * pixel + 1] = v.y;
+  plane[3 * pixel + 2] = v.z;
+}
+
+/// Write @a s (already averaged over the frame's samples) at pixel index @a pixel: the one
+/// mapping from a sample to the passes, used by PassBuffers::Store on the CPU and by the CUDA
+/// tracer on the device.
+PTV_HD PTV_INLINE void StoreSample(const TracedPassPlanes& planes, std::size_t pixel,
+  const PixelSample& s)
+{
+  StoreVec3(planes.Data[PassRadiance], pixel, s.Radiance);
+  planes.Data[PassAlpha][pixel] = s.Alpha;
+  StoreVec3(planes.Data[PassAlbedo], pixel, s.Albedo);
+  planes.Data[PassDepth][pixel] = s.Depth1;
+  StoreVec3(planes.Data[PassPosition], pixel, s.Position1);
+  StoreVec3(planes.Data[PassNormal], pixel, s.Normal1);
+  planes.Data[PassScatterDepth][pixel] = s.Depth2;
+  StoreVec3(planes.Data[PassScatterPosition], pixel, s.Position2);
+  StoreVec3(planes.Data[PassScatterNormal], pixel, s.Normal2);
+}
+
 /// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far
 /// (kHitFraction: Kernels/ptvTraceParams.h).
 inline bool IsHit(float depth, float far)
@@ -73,6 +106,8 @@ public:
   int GetHeight() const { return this->Height; }
   float* Data(int pass) { return this->Buffers[pass].data(); }
   const float* Data(int pass) const { return this->Buffers[pass].data(); }
+  /// The traced passes' pointers (valid until the next Resize or Accumulate).
+  TracedPassPlanes Planes();
 
   /// Write @a s (already averaged over the frame's samples) at pixel index @a pixel.
   void Store(int pixel, const PixelSample& s);

@@ -1,20 +1,28 @@
 // The CUDA driver behind ptvCudaTracer.h: one thread per pixel running TracePixelMean, the same
-// kernel body the CPU driver runs (Kernels/ptvIntegrator.h).
+// kernel body the CPU driver runs (Kernels/ptvIntegrator.h), storing straight into device copies
+// of the traced passes (StoreSample: PassBuffers' layout), each copied back into the frame's
+// pass buffer with one cudaMemcpy (no per-pixel work on the host).
 #include "../ptvCudaTracer.h"
 #include "../ptvPassBuffers.h"
 #include "ptvCudaBuffer.h"
 
 #include <cuda_runtime.h>
 
+#include <chrono>
 #include <cstddef>
-#include <vector>
 
 namespace ptv
 {
 namespace
 {
+double MillisecondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+    .count();
+}
+
 __global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples,
-  PixelSample* out)
+  TracedPassPlanes out)
 {
   const int x = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
   const int y = static_cast<int>(blockIdx.y * blockDim.y + threadIdx.y);
@@ -22,19 +30,20 @@ __global__ void TraceKernel(TraceParams p, unsigned int firstSample, int samples
   {
     return;
   }
-  out[static_cast<std::size_t>(y) * p.Camera.Width + x] =
-    TracePixelMean(p, firstSample, samples, x, y);
+  StoreSample(out, static_cast<std::size_t>(y) * p.Camera.Width + x,
+    TracePixelMean(p, firstSample, samples, x, y));
 }
 }
 
 struct CudaTracer::Internals
 {
-  DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance, Samples;
+  DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance;
+  DeviceBuffer Passes; // the traced passes, one after the other (kTracedPassCount planes)
   DeviceBuffer StepTable, ShadowTable; // TransferTable::StepRGBA, ShadowAlpha
   DeviceBuffer Colors, ColorScalars, ColorTable; // dependent colour data (VolumeGrid::Colors)
+  cudaEvent_t KernelStart = nullptr, KernelEnd = nullptr; // created with the first trace
   unsigned long long VolumeVersion = ~0ull;
   const float* VolumeHost = nullptr;
-  std::vector<PixelSample> Host;
 };
 
 //------------------------------------------------------------------------------
@@ -54,10 +63,18 @@ void CudaTracer::Release()
 {
   Internals& in = *this->Impl;
   for (DeviceBuffer* b : { &in.Scalars, &in.Table, &in.Gradient, &in.Bricks, &in.MaxDistance,
-         &in.Samples, &in.Colors, &in.ColorScalars, &in.ColorTable, &in.StepTable,
+         &in.Passes, &in.Colors, &in.ColorScalars, &in.ColorTable, &in.StepTable,
          &in.ShadowTable })
   {
     b->Free();
+  }
+  for (cudaEvent_t* e : { &in.KernelStart, &in.KernelEnd })
+  {
+    if (*e)
+    {
+      cudaEventDestroy(*e);
+      *e = nullptr;
+    }
   }
   in.VolumeVersion = ~0ull;
   in.VolumeHost = nullptr;
@@ -68,6 +85,8 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   unsigned int firstSample, int samples, PassBuffers& out, std::string& error)
 {
   Internals& in = *this->Impl;
+  this->Timings = CudaTraceTimings{};
+  auto start = std::chrono::steady_clock::now();
   auto ok = [&error](cudaError_t e, const char* what) { return CudaOk(e, what, error); };
   auto upload = [&ok](DeviceBuffer& b, const void* host, std::size_t bytes, const char* what)
   { return ok(b.Upload(host, bytes), what); };
@@ -159,29 +178,53 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
     }
     d.MaxDistance = static_cast<const float*>(in.MaxDistance.Ptr);
   }
-  if (!ok(in.Samples.Fit(pixels * sizeof(PixelSample)), "sample buffer"))
+  std::size_t floats = 0;
+  for (int pass = 0; pass < kTracedPassCount; ++pass)
+  {
+    floats += pixels * static_cast<std::size_t>(GetPassInfo(pass).Components);
+  }
+  if (!ok(in.Passes.Fit(floats * sizeof(float)), "pass buffers"))
   {
     return false;
   }
+  TracedPassPlanes planes;
+  float* next = static_cast<float*>(in.Passes.Ptr);
+  for (int pass = 0; pass < kTracedPassCount; ++pass)
+  {
+    planes.Data[pass] = next;
+    next += pixels * static_cast<std::size_t>(GetPassInfo(pass).Components);
+  }
+  if ((!in.KernelStart && !ok(cudaEventCreate(&in.KernelStart), "event")) ||
+    (!in.KernelEnd && !ok(cudaEventCreate(&in.KernelEnd), "event")))
+  {
+    return false;
+  }
+  this->Timings.Upload = MillisecondsSince(start);
   const dim3 block(16, 8);
   const dim3 grid((w + block.x - 1) / block.x, (h + block.y - 1) / block.y);
-  TraceKernel<<<grid, block>>>(
-    d, firstSample, samples, static_cast<PixelSample*>(in.Samples.Ptr));
-  if (!ok(cudaGetLastError(), "kernel launch"))
+  cudaEventRecord(in.KernelStart);
+  TraceKernel<<<grid, block>>>(d, firstSample, samples, planes);
+  if (!ok(cudaGetLastError(), "kernel launch") || !ok(cudaEventRecord(in.KernelEnd), "event") ||
+    !ok(cudaEventSynchronize(in.KernelEnd), "kernel"))
   {
     return false;
   }
-  in.Host.resize(pixels);
-  if (!ok(cudaMemcpy(in.Host.data(), in.Samples.Ptr, pixels * sizeof(PixelSample),
-            cudaMemcpyDeviceToHost),
-        "sample download"))
+  float kernelMs = 0.f;
+  cudaEventElapsedTime(&kernelMs, in.KernelStart, in.KernelEnd);
+  this->Timings.Kernel = kernelMs;
+  start = std::chrono::steady_clock::now();
+  out.Resize(w, h);
+  for (int pass = 0; pass < kTracedPassCount; ++pass)
   {
-    return false;
+    const std::size_t bytes =
+      pixels * static_cast<std::size_t>(GetPassInfo(pass).Components) * sizeof(float);
+    if (!ok(cudaMemcpy(out.Data(pass), planes.Data[pass], bytes, cudaMemcpyDeviceToHost),
+          "pass download"))
+    {
+      return false;
+    }
   }
-  for (std::size_t i = 0; i < pixels; ++i)
-  {
-    out.Store(static_cast<int>(i), in.Host[i]);
-  }
+  this->Timings.Download = MillisecondsSince(start);
   return true;
 }
 }

@@ -1,0 +1,60 @@
+#!/bin/bash
+# The CUDA path on a GPU machine that has nvcc but no VTK: builds ptvCudaCheck with nvcc alone,
+# runs the CPU-vs-CUDA checks and the benchmark on captures written by ptvWriteCudaCaptures, then
+# compute-sanitizer's memcheck on one capture. Logs go to OUTDIR.
+#
+#   Testing/Cuda/gpu_check.sh CAPTURES(.tgz or folder) [OUTDIR] [PREBUILT_ptvCudaCheck]
+#
+# PREBUILT: a ptvCudaCheck built by this project's CMake build (CUDA architectures 80 and 90) is
+# run first as well, so the check covers the binary CI compiles, not only a build made there.
+# PTV_CUDA_ARCH (default sm_90) selects the architecture of the nvcc build.
+set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+captures=${1:?usage: gpu_check.sh CAPTURES [OUTDIR] [PREBUILT]}
+out=${2:-.}
+prebuilt=${3:-}
+mkdir -p "$out"
+if [ -f "$captures" ]; then
+  dir=$(mktemp -d)
+  tar xzf "$captures" -C "$dir" || exit 1
+  captures=$dir
+fi
+files=("$captures"/*.ptvcap)
+status=0
+
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.mem --format=csv \
+  | tee "$out/gpu.txt"
+nvcc --version | tail -2 | tee -a "$out/gpu.txt"
+
+if [ -n "$prebuilt" ]; then
+  echo "== prebuilt (CMake build) ptvCudaCheck"
+  "$prebuilt" --bench --sizes 256 512 1024 2048 "${files[@]}" 2>&1 | tee "$out/prebuilt.log" \
+    || status=1
+fi
+
+echo "== nvcc build ($root)"
+bin=$(mktemp -d)/ptvCudaCheck
+arch=${PTV_CUDA_ARCH:-sm_90}
+nvcc -std=c++17 -O3 -arch="$arch" -Xptxas -v -Werror all-warnings -I"$root/Rendering" \
+  "$root"/Rendering/Cuda/ptvCudaDevice.cu "$root"/Rendering/Cuda/ptvCudaTracer.cu \
+  "$root"/Rendering/Cuda/ptvCudaBilateralGrid.cu "$root"/Testing/Cuda/ptvCudaCheck.cxx \
+  "$root"/Testing/Cuda/ptvCudaCapture.cxx "$root"/Rendering/ptvPassBuffers.cxx \
+  -o "$bin" > "$out/nvcc.log" 2>&1 || { cat "$out/nvcc.log"; exit 1; }
+grep -E "Compiling entry|registers|stack frame" "$out/nvcc.log" | sed 's/ptxas info *: //' \
+  | grep -v "^ *$" | head -40
+
+echo "== nvcc-built ptvCudaCheck"
+"$bin" --bench --sizes 256 512 1024 2048 "${files[@]}" 2>&1 | tee "$out/built.log" || status=1
+
+echo "== compute-sanitizer memcheck (parity on ${files[0]##*/})"
+if command -v compute-sanitizer > /dev/null; then
+  timeout 300 compute-sanitizer --tool memcheck --error-exitcode 9 "$bin" "${files[0]}" \
+    > "$out/memcheck.log" 2>&1
+  rc=$?
+  tail -4 "$out/memcheck.log"
+  echo "memcheck exit $rc"
+  [ $rc -eq 0 ] || status=1
+else
+  echo "compute-sanitizer not found"
+fi
+exit $status
