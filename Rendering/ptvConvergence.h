@@ -11,14 +11,14 @@
  * after the tone map g(x) = x^(1/2.2) (docs/measuring.md):
  *  - raw mean M, variance V = g'(M)^2 (E[f^2] - M^2) / (k - 1) (delta method), box-filtered
  *    with a radius that shrinks as frames add degrees of freedom;
- *  - denoised D, error E = box3((g(D) - g(M))^2) - V (its squared distance from M, less the
- *    part that is M's own noise);
+ *  - denoised D, error E = box((g(D) - g(M))^2) - V (its squared distance from M, less the
+ *    part that is M's own noise), over the variance's box (at least 3x3);
  *  - shown C = w M + (1 - w) D with w = E / (E + V) (the per-pixel blend of two estimates with
  *    the least squared error), from 8 frames on (fewer give too noisy a variance: measured in
  *    Testing/Benchmarks/convergence.py); below that, D.
  * The estimated error of C (for the stopping rule of still renders) uses the half
  * accumulations instead of the delta method, which misses the rare samples of dark pixels:
- * V_half = (g(A) - g(B))^2 n_A n_B / k^2, and MSE = mean(w^2 V_half + (1 - w)^2 box3(...)).
+ * V_half = (g(A) - g(B))^2 n_A n_B / k^2, and MSE = mean(w^2 V_half + (1 - w)^2 box(...)).
  */
 #ifndef ptvConvergence_h
 #define ptvConvergence_h
