@@ -28,6 +28,7 @@ inline void TraceTiles(const TraceParams& params, unsigned int firstSample, int 
   const int width = params.Camera.Width;
   const int height = params.Camera.Height;
   const int across = TilesAcross(params);
+  const TracedPassPlanes planes = out.Planes();
   for (vtkIdType t = t0; t < t1; ++t)
   {
     const int x0 = static_cast<int>(t % across) * kTile;
@@ -38,7 +39,8 @@ inline void TraceTiles(const TraceParams& params, unsigned int firstSample, int 
     {
       for (int x = x0; x < x1; ++x)
       {
-        out.Store(y * width + x, TracePixelMean(params, firstSample, samples, x, y));
+        StoreSample(planes, static_cast<std::size_t>(y) * width + x,
+          TracePixelMean(params, firstSample, samples, x, y));
       }
     }
   }
