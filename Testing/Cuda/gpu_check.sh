@@ -1,7 +1,7 @@
 #!/bin/bash
 # The CUDA path on a GPU machine that has nvcc but no VTK: builds ptvCudaCheck with nvcc alone,
 # runs the CPU-vs-CUDA checks and the benchmark on captures written by ptvWriteCudaCaptures, then
-# compute-sanitizer's memcheck on one capture. Logs go to OUTDIR.
+# compute-sanitizer's memcheck and initcheck on the concrete's captures. Logs go to OUTDIR.
 #
 #   Testing/Cuda/gpu_check.sh CAPTURES(.tgz or folder) [OUTDIR] [PREBUILT_ptvCudaCheck]
 #
@@ -46,14 +46,18 @@ grep -E "Compiling entry|registers|stack frame" "$out/nvcc.log" | sed 's/ptxas i
 echo "== nvcc-built ptvCudaCheck"
 "$bin" --bench --sizes 256 512 1024 2048 "${files[@]}" 2>&1 | tee "$out/built.log" || status=1
 
-echo "== compute-sanitizer memcheck (parity on ${files[0]##*/})"
+# The sanitizers on the small-volume captures (every upload branch of the drivers), parity only.
+small=("$captures"/concrete*.ptvcap)
 if command -v compute-sanitizer > /dev/null; then
-  timeout 300 compute-sanitizer --tool memcheck --error-exitcode 9 "$bin" "${files[0]}" \
-    > "$out/memcheck.log" 2>&1
-  rc=$?
-  tail -4 "$out/memcheck.log"
-  echo "memcheck exit $rc"
-  [ $rc -eq 0 ] || status=1
+  for tool in memcheck initcheck; do
+    echo "== compute-sanitizer $tool (parity on ${#small[@]} captures)"
+    timeout 400 compute-sanitizer --tool $tool --error-exitcode 9 "$bin" "${small[@]}" \
+      > "$out/$tool.log" 2>&1
+    rc=$?
+    grep -E "FAILED|ERROR SUMMARY" "$out/$tool.log" | tail -3
+    echo "$tool exit $rc"
+    [ $rc -eq 0 ] || status=1
+  done
 else
   echo "compute-sanitizer not found"
 fi

@@ -6,7 +6,14 @@
 // Then it reads each file back and checks it: every array equal, and the CPU driver run again
 // on the parameters read back gives the stored passes to the bit.
 //
-//   ptvWriteCudaCaptures -D <data dir> -o <out dir> [--size 256] [dataset ...]
+// Besides the three datasets as the report renders them, variants of the concrete take every
+// other branch of the CUDA driver's uploads: a clipping plane with gradient opacity and opaque
+// geometry's depths (per-pixel ray limits); isosurfaces with nearest-voxel classification;
+// dependent RGBA colour data; two-component (colour channel + opacity channel) data.
+//
+//   ptvWriteCudaCaptures -D <data dir> -o <out dir> [--size 256] [capture ...]
+//   (captures: head stent concrete concrete_clip concrete_iso concrete_rgba concrete_two;
+//   default: all)
 #include "Kernels/ptvTraceParams.h"
 #include "ptvBilateralGridCpu.h"
 #include "ptvCpuTracer.h"
@@ -16,16 +23,21 @@
 #include "ptvPassBuffers.h"
 
 #include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPTVTransferFunctionPreset.h"
 #include "vtkPathTracedVolumeMapper.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtkXMLImageDataReader.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -37,6 +49,62 @@ namespace
 using namespace ptv;
 
 const int kPassOf[CapturedPassCount] = { PassRadiance, PassDepth, PassNormal };
+
+/// One capture: a dataset and what is switched on.
+struct Variant
+{
+  const char* Name;
+  const char* Dataset;
+  bool ClipGradientDepth; ///< a clipping plane, gradient opacity, opaque geometry's depths
+  bool IsoNearest;        ///< one isosurface, nearest-voxel classification
+  int ColorComponents;    ///< 0: scalars; 2 or 4: dependent colour data built from the scalars
+};
+
+const Variant kVariants[] = {
+  { "head", "head", false, false, 0 },
+  { "stent", "stent", false, false, 0 },
+  { "concrete", "concrete", false, false, 0 },
+  { "concrete_clip", "concrete", true, false, 0 },
+  { "concrete_iso", "concrete", false, true, 0 },
+  { "concrete_rgba", "concrete", false, false, 4 },
+  { "concrete_two", "concrete", false, false, 2 },
+};
+
+/// Dependent colour data from @a image's scalars s (normalised to t in [0, 1] over their range
+/// [lo, hi]): 4 components (t, 1 - t, 0.5 + 0.5 t, s) or 2 (lo + hi - s as the colour channel,
+/// s as the opacity channel).
+vtkSmartPointer<vtkImageData> ColorData(vtkImageData* image, int components)
+{
+  vtkDataArray* scalars = image->GetPointData()->GetScalars();
+  double range[2];
+  scalars->GetRange(range);
+  const double span = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  vtkNew<vtkFloatArray> data;
+  data->SetName("colour");
+  data->SetNumberOfComponents(components);
+  data->SetNumberOfTuples(scalars->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
+  {
+    const double v = scalars->GetComponent(i, 0);
+    const double t = (v - range[0]) / span;
+    if (components == 4)
+    {
+      const float rgba[4] = { static_cast<float>(t), static_cast<float>(1.0 - t),
+        static_cast<float>(0.5 + 0.5 * t), static_cast<float>(v) };
+      data->SetTypedTuple(i, rgba);
+    }
+    else
+    {
+      // The colour channel reversed over the same range, so the preset's colours vary on it.
+      const float two[2] = { static_cast<float>(range[0] + range[1] - v), static_cast<float>(v) };
+      data->SetTypedTuple(i, two);
+    }
+  }
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->CopyStructure(image);
+  out->GetPointData()->SetScalars(data);
+  return out;
+}
 
 template <typename T>
 std::vector<T> Copy(const T* p, std::size_t n)
@@ -86,8 +154,9 @@ bool Fail(const std::string& what)
   return false;
 }
 
-bool Capture(const std::string& dataDir, const std::string& name, int size, TraceCapture& c)
+bool Capture(const std::string& dataDir, const Variant& variant, int size, TraceCapture& c)
 {
+  const std::string name = variant.Dataset;
   vtkNew<vtkXMLImageDataReader> reader;
   const std::string file = dataDir + "/" + name + ".vti";
   if (!reader->CanReadFile(file.c_str()))
@@ -96,7 +165,13 @@ bool Capture(const std::string& dataDir, const std::string& name, int size, Trac
   }
   reader->SetFileName(file.c_str());
   reader->Update();
-  vtkImageData* image = reader->GetOutput();
+  vtkSmartPointer<vtkImageData> image = reader->GetOutput();
+  double range[2];
+  image->GetPointData()->GetScalars()->GetRange(range);
+  if (variant.ColorComponents)
+  {
+    image = ColorData(image, variant.ColorComponents);
+  }
 
   vtkNew<vtkVolumeProperty> property;
   vtkNew<vtkPTVTransferFunctionPreset> presets;
@@ -109,6 +184,28 @@ bool Capture(const std::string& dataDir, const std::string& name, int size, Trac
   }
   property->ShadeOn();
   property->SetInterpolationTypeToLinear();
+  if (variant.IsoNearest)
+  {
+    property->SetInterpolationTypeToNearest();
+  }
+  if (variant.ClipGradientDepth)
+  {
+    vtkPiecewiseFunction* gradient = property->GetGradientOpacity(0);
+    gradient->RemoveAllPoints();
+    gradient->AddPoint(0.0, 0.2);
+    gradient->AddPoint(0.05 * (range[1] - range[0]), 1.0);
+    property->DisableGradientOpacityOff();
+  }
+  if (variant.ColorComponents == 2)
+  {
+    // A colour ramp over the colour channel's range (the preset's colours barely vary on it).
+    vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+    color->RemoveAllPoints();
+    color->AddRGBPoint(range[0], 1.0, 0.1, 0.1);
+    color->AddRGBPoint(0.5 * (range[0] + range[1]), 0.1, 1.0, 0.1);
+    color->AddRGBPoint(range[1], 0.1, 0.1, 1.0);
+  }
+  property->SetIndependentComponents(variant.ColorComponents == 0);
   vtkNew<vtkPathTracedVolumeMapper> mapper; // the volume's bounds; never rendered
   mapper->SetInputData(image);
   vtkNew<vtkVolume> volume;
@@ -129,18 +226,58 @@ bool Capture(const std::string& dataDir, const std::string& name, int size, Trac
 
   FrameInputs inputs;
   FrameSettings settings;
+  std::vector<float> zbuffer;
+  if (variant.ClipGradientDepth)
+  {
+    double bounds[6];
+    volume->GetBounds(bounds);
+    settings.ClipPlaneCount = 1; // keeps x >= the centre: n.x + d >= 0
+    const double plane[4] = { 1.0, 0.0, 0.0, -0.5 * (bounds[0] + bounds[1]) };
+    std::copy(plane, plane + 4, settings.ClipPlanes[0]);
+    // Opaque geometry over the left third (window depth 0.99), nothing elsewhere.
+    zbuffer.assign(static_cast<std::size_t>(size) * size, 1.0f);
+    for (int y = 0; y < size; ++y)
+    {
+      std::fill_n(zbuffer.begin() + static_cast<std::ptrdiff_t>(y) * size, size / 3, 0.99f);
+    }
+  }
+  if (variant.IsoNearest)
+  {
+    // The median voxel: half the voxels lie on each side of that surface.
+    vtkDataArray* scalars = image->GetPointData()->GetScalars();
+    std::vector<double> sample;
+    for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); i += 97)
+    {
+      sample.push_back(scalars->GetComponent(i, 0));
+    }
+    std::nth_element(sample.begin(), sample.begin() + sample.size() / 2, sample.end());
+    settings.Iso.Count = 1;
+    settings.Iso.Values[0] = static_cast<float>(sample[sample.size() / 2]);
+  }
   std::string error;
   vtkIdType nonFinite = 0;
   TraceParams params{};
   FrameSignature signature;
-  if (!inputs.UpdateVolume(image, image->GetPointData()->GetScalars(), false, error, nonFinite) ||
+  if (!inputs.UpdateVolume(image, image->GetPointData()->GetScalars(),
+        variant.ColorComponents != 0, error, nonFinite) ||
     !inputs.UpdateTransfer(property, settings.EmptySpaceSkipping, settings.Iso, error) ||
-    !inputs.Build(renderer, volume, image, settings, size, size, std::vector<float>(), params,
-      signature, error))
+    !inputs.Build(renderer, volume, image, settings, size, size, zbuffer, params, signature,
+      error))
   {
-    return Fail(name + ": " + error);
+    return Fail(std::string(variant.Name) + ": " + error);
   }
-  c.Name = name;
+  // Each variant must take the branch it is for (a capture that silently lost it checks less).
+  const TraceParams& q = params;
+  const bool took = (!variant.ClipGradientDepth ||
+                      (q.Clip.PlaneCount == 1 && q.Transfer.GradientOpacity && q.MaxDistance)) &&
+    (!variant.IsoNearest || (q.Iso.Count == 1 && q.Nearest)) &&
+    (variant.ColorComponents != 4 || q.Volume.Colors) &&
+    (variant.ColorComponents != 2 || (q.Volume.ColorScalars && q.ColorTable.RGBA));
+  if (!took)
+  {
+    return Fail(std::string(variant.Name) + ": the scene does not exercise what it is for");
+  }
+  c.Name = variant.Name;
   CopyInputs(params, c);
 
   PassBuffers frame;
@@ -235,7 +372,7 @@ int main(int argc, char* argv[])
 {
   std::string dataDir, outDir;
   int size = 256;
-  std::vector<std::string> names;
+  std::vector<std::string> names; // captures to write
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -258,7 +395,12 @@ int main(int argc, char* argv[])
     else if (a == "-h" || a == "--help")
     {
       std::cout << "usage: ptvWriteCudaCaptures -D <data dir> -o <out dir> [--size N] "
-                   "[dataset ...]\n(default datasets: head stent concrete; size 256)\n";
+                   "[capture ...]\n(captures:";
+      for (const Variant& v : kVariants)
+      {
+        std::cout << " " << v.Name;
+      }
+      std::cout << "; default: all; size 256)\n";
       return EXIT_SUCCESS;
     }
     else
@@ -274,15 +416,40 @@ int main(int argc, char* argv[])
   }
   if (names.empty())
   {
-    names = { "head", "stent", "concrete" };
+    for (const Variant& v : kVariants)
+    {
+      names.emplace_back(v.Name);
+    }
   }
   for (const std::string& name : names)
   {
+    const Variant* variant = nullptr;
+    for (const Variant& v : kVariants)
+    {
+      variant = name == v.Name ? &v : variant;
+    }
+    if (!variant)
+    {
+      std::cerr << "ERROR: no capture called " << name << " (--help lists them)\n";
+      return EXIT_FAILURE;
+    }
     TraceCapture c;
     std::string error;
     const std::string file = outDir + "/" + name + ".ptvcap";
-    if (!Capture(dataDir, name, size, c))
+    if (!Capture(dataDir, *variant, size, c))
     {
+      return EXIT_FAILURE;
+    }
+    // A capture that shows nothing would check nothing.
+    std::size_t hits = 0;
+    for (float depth : c.Cpu[0][CapturedDepth])
+    {
+      hits += depth < kHitFraction * c.Params.Camera.FarDistance ? 1 : 0;
+    }
+    const double covered = static_cast<double>(hits) / c.Cpu[0][CapturedDepth].size();
+    if (covered < 0.05)
+    {
+      std::cerr << "ERROR: " << name << ": only " << 100 * covered << " % of the pixels see it\n";
       return EXIT_FAILURE;
     }
     if (!WriteCapture(file, c, error))
@@ -296,7 +463,8 @@ int main(int argc, char* argv[])
     }
     std::cout << file << ": " << size << "x" << size << ", volume " << c.Params.Volume.Dims[0]
               << "x" << c.Params.Volume.Dims[1] << "x" << c.Params.Volume.Dims[2]
-              << ", guides " << c.GuideLevels << " levels; read back and re-traced: identical\n";
+              << ", " << static_cast<int>(100 * covered + 0.5) << " % of the pixels hit, guides "
+              << c.GuideLevels << " levels; read back and re-traced: identical\n";
   }
   return EXIT_SUCCESS;
 }
