@@ -15,6 +15,7 @@
 #include "ptvCudaBilateralGrid.h"
 #include "ptvCudaCapture.h"
 #include "ptvCudaDevice.h"
+#include "ptvCudaParity.h"
 #include "ptvCudaTracer.h"
 #include "ptvPassBuffers.h"
 
@@ -31,28 +32,6 @@ namespace
 {
 using namespace ptv;
 constexpr int kSkip = 125;
-const int kPassOf[CapturedPassCount] = { PassRadiance, PassDepth, PassNormal };
-const int kComponents[CapturedPassCount] = { 3, 1, 3 };
-
-double FractionClose(const std::vector<float>& a, const float* b, double tol)
-{
-  std::size_t close = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    close += std::abs(a[i] - b[i]) <= tol * (1.0 + std::abs(a[i])) ? 1 : 0;
-  }
-  return a.empty() ? 0.0 : static_cast<double>(close) / a.size();
-}
-
-double Rmse(const std::vector<float>& a, const float* b)
-{
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    s += (a[i] - b[i]) * static_cast<double>(a[i] - b[i]);
-  }
-  return a.empty() ? 0.0 : std::sqrt(s / a.size());
-}
 
 double Median(std::vector<double> v)
 {
@@ -91,7 +70,7 @@ bool HostCheck(const TraceCapture& c)
   return differ == 0;
 }
 
-/// CUDA tracer vs the stored CPU passes (TestPTVCudaParity's criteria).
+/// CUDA tracer vs the stored CPU passes (ptvCudaParity.h).
 bool TraceParity(const TraceCapture& c)
 {
   bool ok = true;
@@ -106,11 +85,14 @@ bool TraceParity(const TraceCapture& c)
       std::cout << c.Name << ": CUDA trace failed: " << error << "\n";
       return false;
     }
-    const double depth = FractionClose(c.Cpu[k][CapturedDepth], out.Data(PassDepth), 1e-4);
-    const double normal = FractionClose(c.Cpu[k][CapturedNormal], out.Data(PassNormal), 1e-3);
-    const double rmse = Rmse(c.Cpu[k][CapturedRadiance], out.Data(PassRadiance));
-    const bool pass =
-      depth >= 0.995 && normal >= 0.99 && rmse <= (c.Samples[k] == 1 ? 0.05 : 0.02);
+    const std::vector<float>* cpu = c.Cpu[k];
+    const double depth = parity::FractionClose(cpu[CapturedDepth].data(), out.Data(PassDepth),
+      cpu[CapturedDepth].size(), parity::kDepthTolerance);
+    const double normal = parity::FractionClose(cpu[CapturedNormal].data(),
+      out.Data(PassNormal), cpu[CapturedNormal].size(), parity::kNormalTolerance);
+    const double rmse = parity::Rmse(
+      cpu[CapturedRadiance].data(), out.Data(PassRadiance), cpu[CapturedRadiance].size());
+    const bool pass = parity::TraceAgrees(depth, normal, rmse, c.Samples[k]);
     std::cout << c.Name << " trace " << c.Samples[k] << " spp: depth close " << depth
               << ", normal close " << normal << ", radiance RMSE " << rmse
               << (pass ? "  ok" : "  FAILED") << "\n";
@@ -129,7 +111,7 @@ BilateralGridSettings GridSettings(const TraceCapture& c, int levels)
   return s;
 }
 
-/// CUDA grid vs the stored CPU grid: max |CPU - CUDA| / range <= 1e-5 (TestPTVCudaParity).
+/// CUDA grid vs the stored CPU grid: max |CPU - CUDA| / range (ptvCudaParity.h).
 bool GridParity(const TraceCapture& c)
 {
   bool ok = true;
@@ -156,7 +138,7 @@ bool GridParity(const TraceCapture& c)
       diff = std::isnan(d) ? INFINITY : std::max(diff, d);
     }
     const double relative = diff / std::max(1e-30, double(*range.second - *range.first));
-    const bool pass = relative <= 1e-5;
+    const bool pass = relative <= parity::kGridRelative;
     std::cout << c.Name << " grid " << levels << " level(s): max |CPU - CUDA| / range "
               << relative << (pass ? "  ok" : "  FAILED") << "\n";
     ok = ok && pass;

@@ -8,6 +8,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "ptvCudaParity.h"
 #include "vtkPTVDenoiser.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
@@ -84,26 +85,6 @@ Frames Render(int backend, int frames)
   return { Pass(mapper, "Depth"), Pass(mapper, "Normal"), Pass(mapper, "Radiance"),
     mapper->GetActiveBackend() };
 }
-
-double FractionClose(const std::vector<float>& a, const std::vector<float>& b, double tol)
-{
-  std::size_t close = 0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    close += std::abs(a[i] - b[i]) <= tol * (1.0 + std::abs(a[i])) ? 1 : 0;
-  }
-  return a.empty() ? 0.0 : static_cast<double>(close) / a.size();
-}
-
-double Rmse(const std::vector<float>& a, const std::vector<float>& b)
-{
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i)
-  {
-    s += (a[i] - b[i]) * static_cast<double>(a[i] - b[i]);
-  }
-  return a.empty() ? 0.0 : std::sqrt(s / a.size());
-}
 }
 
 /// A W x H image with one float array of @a components per pixel.
@@ -164,7 +145,7 @@ int GridParity()
       std::cout << "grid L=" << levels << (demodulate ? " demodulated" : " radiance")
                 << ": ran on " << (onCuda[1] ? "CUDA" : "the CPU (CUDA failed)")
                 << ", max |CPU - CUDA| / range " << relative << "\n";
-      failures += !onCuda[0] && onCuda[1] && relative <= 1e-5 ? 0 : 1;
+      failures += !onCuda[0] && onCuda[1] && relative <= ptv::parity::kGridRelative ? 0 : 1;
     }
   }
   return failures;
@@ -183,14 +164,17 @@ int TestPTVCudaParity(int, char*[])
   {
     const Frames cpu = Render(vtkPathTracedVolumeMapper::BACKEND_CPU, frames);
     const Frames gpu = Render(vtkPathTracedVolumeMapper::BACKEND_CUDA, frames);
-    const double depth = FractionClose(cpu.Depth, gpu.Depth, 1e-4);
-    const double normal = FractionClose(cpu.Normal, gpu.Normal, 1e-3);
-    const double rmse = Rmse(cpu.Radiance, gpu.Radiance);
+    const double depth = ptv::parity::FractionClose(
+      cpu.Depth.data(), gpu.Depth.data(), cpu.Depth.size(), ptv::parity::kDepthTolerance);
+    const double normal = ptv::parity::FractionClose(
+      cpu.Normal.data(), gpu.Normal.data(), cpu.Normal.size(), ptv::parity::kNormalTolerance);
+    const double rmse =
+      ptv::parity::Rmse(cpu.Radiance.data(), gpu.Radiance.data(), cpu.Radiance.size());
     std::cout << frames << " frame(s): backends " << cpu.Backend << "/" << gpu.Backend
               << ", depth close " << depth << ", normal close " << normal << ", radiance RMSE "
               << rmse << "\n";
-    const bool ok = gpu.Backend == "CUDA" && depth >= 0.995 && normal >= 0.99 &&
-      rmse <= (frames == 1 ? 0.05 : 0.02);
+    const bool ok =
+      gpu.Backend == "CUDA" && ptv::parity::TraceAgrees(depth, normal, rmse, frames);
     failures += ok ? 0 : 1;
   }
   failures += GridParity();
