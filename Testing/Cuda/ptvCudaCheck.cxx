@@ -1,7 +1,7 @@
 // The CUDA path on real scenes, without VTK: reads captures (ptvWriteCudaCaptures), runs the
 // CUDA tracer and grid drivers on the captured inputs and compares them with the CPU drivers'
-// results stored there, with TestPTVCudaParity's criteria (ptvCudaParity.h); --bench then times both drivers on
-// the device at several image sizes. Built with nvcc alone (see Testing/Cuda/README.md), so it
+// results stored there, with TestPTVCudaParity's criteria (ptvCudaParity.h); --bench then times
+// both drivers on the device at several image sizes. Built with nvcc alone (see Testing/Cuda/README.md), so it
 // runs on a GPU machine that has no VTK.
 //
 //   ptvCudaCheck [--cpu-only] [--bench] [--sizes 256 512 1024] [--repeats 15] file.ptvcap ...
