@@ -93,7 +93,13 @@ public:
       this->Call = call;
       this->Context = context;
       this->Chunks = chunks;
-      this->Next.store(0);
+      this->Shares = static_cast<int>(std::min<std::size_t>(helpers + 1, kMaxShares));
+      for (int s = 0; s < this->Shares; ++s)
+      {
+        this->ShareBegin[s] = chunks * static_cast<std::size_t>(s) / this->Shares;
+        this->Taken[s].store(0);
+      }
+      this->ShareBegin[this->Shares] = chunks;
       this->Finished.store(0);
       this->Helpers = static_cast<int>(helpers);
       this->Open = true;
@@ -101,7 +107,7 @@ public:
       this->Published.store(this->Generation); // what polling workers watch
     }
     this->Wake.notify_all();
-    this->Drain();
+    this->Drain(0);
     SpinFor([this]() { return this->Finished.load() == this->Chunks && this->Inside.load() == 0; });
     std::unique_lock<std::mutex> lock(this->Mutex);
     this->Done.wait(lock, [this]() { return this->Finished.load() == this->Chunks; });
@@ -110,16 +116,25 @@ public:
   }
 
 private:
-  void Drain()
+  /// Runs chunks until none is left: participant @a p's own share first, then the others'.
+  void Drain(int p)
   {
     tInChunk = true;
-    for (std::size_t c = this->Next.fetch_add(1); c < this->Chunks; c = this->Next.fetch_add(1))
+    const int shares = this->Shares;
+    for (int k = 0; k < shares; ++k)
     {
-      this->Call(this->Context, c);
-      if (this->Finished.fetch_add(1) + 1 == this->Chunks)
+      const int s = (p + k) % shares;
+      const std::size_t begin = this->ShareBegin[s];
+      const std::size_t end = this->ShareBegin[s + 1];
+      for (std::size_t c = begin + this->Taken[s].fetch_add(1); c < end;
+           c = begin + this->Taken[s].fetch_add(1))
       {
-        std::lock_guard<std::mutex> lock(this->Mutex);
-        this->Done.notify_all();
+        this->Call(this->Context, c);
+        if (this->Finished.fetch_add(1) + 1 == this->Chunks)
+        {
+          std::lock_guard<std::mutex> lock(this->Mutex);
+          this->Done.notify_all();
+        }
       }
     }
     tInChunk = false;
@@ -147,7 +162,7 @@ private:
       seen = this->Generation;
       ++this->Inside;
       lock.unlock();
-      this->Drain();
+      this->Drain(index + 1);
       lock.lock();
       if (--this->Inside == 0)
       {
@@ -169,7 +184,14 @@ private:
   void (*Call)(const void*, std::size_t) = nullptr;
   const void* Context = nullptr;
   std::size_t Chunks = 0;
-  std::atomic<std::size_t> Next{ 0 };
+  // The loop's chunks in Shares contiguous shares, one per participant (the caller is 0, worker
+  // i is i + 1; more participants than kMaxShares share them): share s is chunks
+  // [ShareBegin[s], ShareBegin[s + 1]), Taken[s] of them handed out so far (it runs past the
+  // share's size as threads find it empty).
+  static constexpr int kMaxShares = 64;
+  int Shares = 1;
+  std::size_t ShareBegin[kMaxShares + 1] = {};
+  std::atomic<std::size_t> Taken[kMaxShares] = {};
   std::atomic<std::size_t> Finished{ 0 };
 };
 }

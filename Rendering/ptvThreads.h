@@ -8,7 +8,12 @@
  * so the project's loops share one pool instead: its workers are started on first use, poll for
  * the next loop for 50 us and then sleep on a condition variable (no longer spinning that would
  * take cores from ONNX Runtime), and the calling thread works too, polling as briefly for the
- * workers' last chunks before it sleeps. Chunks are handed out in any order; every caller partitions its work
+ * workers' last chunks before it sleeps. A loop's chunks are cut into one contiguous share per
+ * thread (the calling thread's first); each thread runs its own share from its start, then
+ * takes what is left of the others' (work stealing). So consecutive loops over the same rows
+ * run most rows on the same core as the loop before, which finds them in its own cache: the
+ * bilateral grid's slice, reading the cells its splat wrote, ran 0.4 ms (25 %) slower on 2
+ * threads at 512^2 when any thread could take any rows. Every caller partitions its work
  * so that the result does not depend on which thread runs a chunk, so images are bit-identical
  * for any number of threads. One loop runs on the pool at a time: a loop started while the pool
  * is busy (another render thread, or a loop inside a loop) runs its chunks on its own thread.

@@ -1,7 +1,8 @@
 // The plugin's parallel loops (ptvThreads.h): every index runs exactly once in ranges of the
 // asked grain, for any size, grain and thread count; two chunks really run at the same time on
 // two threads; a loop inside a loop and loops started from two threads at once complete with
-// the right result (they run inline while the pool is busy). Runs under ThreadSanitizer too
+// the right result (they run inline while the pool is busy); each thread starts on its own
+// share of a loop. Runs under ThreadSanitizer too
 // (scripts/sanitize.sh --thread).
 #include "ptvTestCheck.h"
 #include "ptvThreads.h"
@@ -133,12 +134,70 @@ void TestNestedAndConcurrent()
   b.join();
   Check(wrong.load() == 0, "loops started from two threads at once give exact results");
 }
+
+// Each thread runs its own contiguous share of a loop first (ptvThreads.h): with two threads and
+// 2 * 32 chunks where chunk 0 and chunk 32 wait for each other, chunk 0 (the first share's
+// start) runs on the calling thread and the worker starts with chunk 32 (the second's) -- the
+// same worker in every loop, so consecutive loops over the same rows keep them on one core.
+void TestShares()
+{
+  const std::thread::id caller = std::this_thread::get_id();
+  std::thread::id firstWorker;
+  int callerFirst = 0, sameWorker = 0, workerStarts = 0;
+  const int loops = 20;
+  for (int rep = 0; rep < loops; ++rep)
+  {
+    std::thread::id ran[64];
+    std::atomic<int> started{ 0 }, workerFirst{ -1 };
+    std::atomic<bool> timedOut{ false };
+    ptv::ParallelFor(2, 0, 64, 1,
+      [&](int a, int)
+      {
+        ran[a] = std::this_thread::get_id();
+        int none = -1;
+        if (ran[a] != caller)
+        {
+          workerFirst.compare_exchange_strong(none, a);
+        }
+        if (a != 0 && a != 32)
+        {
+          return;
+        }
+        ++started;
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (started.load() < 2)
+        {
+          if (std::chrono::steady_clock::now() > until)
+          {
+            timedOut = true;
+            return;
+          }
+          std::this_thread::yield();
+        }
+      });
+    Check(!timedOut.load(), "chunks 0 and 32 run at the same time");
+    callerFirst += ran[0] == caller;
+    if (rep == 0)
+    {
+      firstWorker = ran[32];
+    }
+    sameWorker += ran[32] == firstWorker && ran[32] != caller;
+    workerStarts += workerFirst.load() == 32;
+  }
+  Check(callerFirst == loops, "the first share starts on the calling thread: " +
+      std::to_string(callerFirst) + " of " + std::to_string(loops) + " loops");
+  Check(workerStarts == loops, "the worker's first chunk is its share's first (32): " +
+      std::to_string(workerStarts) + " of " + std::to_string(loops) + " loops");
+  Check(sameWorker == loops, "the second share runs on the same worker: " +
+      std::to_string(sameWorker) + " of " + std::to_string(loops) + " loops");
+}
 }
 
 int TestPTVThreads(int, char*[])
 {
   TestCoverage();
   TestRunsInParallel();
+  TestShares();
   TestNestedAndConcurrent();
   return TestResult();
 }
