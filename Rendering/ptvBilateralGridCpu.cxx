@@ -51,7 +51,7 @@ void BilateralGridCpu::Fit(std::vector<T>& buffer, std::size_t size)
 
 //------------------------------------------------------------------------------
 void BilateralGridCpu::Prepare(
-  const BilateralGridSettings& settings, int levels, int width, int height, int blocks)
+  const BilateralGridSettings& settings, int levels, int width, int height, int blocks, bool alpha)
 {
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   this->Fit(this->Demodulated, pixels * 4);
@@ -85,6 +85,16 @@ void BilateralGridCpu::Prepare(
     }
     this->Fit(this->Cells[l], cells * 4);
     g.Cells = this->Cells[l].data();
+    g.Alpha = nullptr;
+    if (l == 0 && alpha)
+    {
+      if (!same)
+      {
+        this->AlphaCells.clear();
+      }
+      this->Fit(this->AlphaCells, cells);
+      g.Alpha = this->AlphaCells.data();
+    }
     this->Fit(this->ColumnIndex[l], static_cast<std::size_t>(width));
     this->Fit(this->ColumnTents[l], 2 * static_cast<std::size_t>(width));
     this->Fit(this->RowIndex[l], static_cast<std::size_t>(height));
@@ -105,9 +115,14 @@ void BilateralGridCpu::Prepare(
     scratchColumns = std::max(scratchColumns, static_cast<std::size_t>(g.Columns));
     scratchFloats = std::max(scratchFloats, static_cast<std::size_t>(g.Columns) * g.Bins * 4);
   }
+  if (alpha)
+  {
+    this->Fit(this->Alpha, pixels);
+  }
   if (blocks != this->Blocks || scratchColumns != this->ScratchColumns ||
     scratchFloats != this->ScratchFloats)
   {
+    this->AlphaScratch.clear(); // allocated on the first frame with an opacity
     this->Blocks = blocks;
     this->ScratchColumns = scratchColumns;
     this->ScratchFloats = scratchFloats;
@@ -123,19 +138,25 @@ void BilateralGridCpu::Prepare(
       std::fill(ranges + scratchColumns, ranges + 2 * scratchColumns, -1);
     }
   }
+  if (alpha)
+  {
+    this->Fit(this->AlphaScratch, 2 * (scratchFloats / 4) * blocks); // zero, kept zero by the splat
+  }
 }
 
 //------------------------------------------------------------------------------
 void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, int height,
   const float* radiance, const float* albedo, const float* guides, const float* weights,
-  float* out)
+  float* out, const float* alphaIn, float* alphaOut)
 {
+  const bool alpha = alphaIn && alphaOut;
   const int levels = ClampedLevels(settings);
   const bool portable = UsePortableKernels(settings.Portable);
   this->KernelTarget = GridKernelTarget(portable);
 
   // The splat's blocks of grid rows: one per thread, each with its own scratch row.
-  this->Prepare(settings, levels, width, height, ResolvedThreads(settings.Threads));
+  this->Prepare(settings, levels, width, height, ResolvedThreads(settings.Threads), alpha);
+  float* sanitisedAlpha = alpha ? this->Alpha.data() : nullptr;
 
   float* demod = this->Demodulated.data();
   double* rowLuminance = this->RowLuminance.data();
@@ -156,6 +177,10 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
           portable);
         rowLuminance[y] = row.Luminance;
         rowLit[y] = row.Lit;
+        for (std::size_t x = 0; alpha && x < static_cast<std::size_t>(width); ++x)
+        {
+          sanitisedAlpha[p + x] = SanitizeRadiance(alphaIn[p + x]);
+        }
       }
     });
   double total = 0.0;
@@ -182,6 +207,9 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
           scratch.Cells[r] = this->Scratch.data() + this->ScratchFloats * (2 * b + r);
           scratch.KMin[r] = this->ScratchRanges.data() + 2 * this->ScratchColumns * (2 * b + r);
           scratch.KMax[r] = scratch.KMin[r] + this->ScratchColumns;
+          scratch.Alpha[r] = alpha
+            ? this->AlphaScratch.data() + this->ScratchFloats / 4 * (2 * b + r)
+            : nullptr;
         }
         for (int l = 0; l < levels; ++l)
         {
@@ -194,6 +222,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
           in.Width = width;
           in.Height = height;
           in.Limit = limit > 0.f ? limit : std::numeric_limits<float>::infinity();
+          in.Alpha = l == 0 ? sanitisedAlpha : nullptr;
           const int jBegin = static_cast<int>(rows * b / blocks);
           const int jEnd = static_cast<int>(rows * (b + 1) / blocks);
           SplatGridRows(in, grid[l], scratch, jBegin, jEnd, portable);
@@ -212,6 +241,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   in.Albedo = albedo;
   in.Out = out;
   in.Width = width;
+  in.AlphaOut = alpha ? alphaOut : nullptr;
   ParallelFor(settings.Threads, 0, height, 8,
     [&](vtkIdType rowBegin, vtkIdType rowEnd)
     { SliceRows(in, static_cast<int>(rowBegin), static_cast<int>(rowEnd), portable); });

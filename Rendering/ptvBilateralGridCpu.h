@@ -36,11 +36,14 @@ public:
    * fastest), @a guides W * H * Levels interleaved values, @a weights W * H * (Levels - 1)
    * interleaved values (may be nullptr when Levels == 1). @a albedo nullptr: no demodulation.
    * The settings must be valid (levels 1..3, steps 1..256, W, H >= 1); the caller validates.
-   * @a out must not alias an input.
+   * @a out must not alias an input. With @a alphaIn (W * H opacities) the opacity goes through
+   * the finest level beside the colour (sanitised as radiance is, not clamped, not
+   * demodulated) into @a alphaOut (W * H, not clamped): what a second Apply with one level and
+   * (alpha, alpha, alpha) as the radiance would give, up to the order of the sums.
    */
   void Apply(const BilateralGridSettings& settings, int width, int height,
     const float* radiance, const float* albedo, const float* guides, const float* weights,
-    float* out);
+    float* out, const float* alphaIn = nullptr, float* alphaOut = nullptr);
 
   /// Timings of the last Apply (ms).
   const BilateralGridTimings& GetLastTimings() const { return this->Timings; }
@@ -55,7 +58,7 @@ private:
   template <typename T>
   void Fit(std::vector<T>& buffer, std::size_t size);
   void Prepare(const BilateralGridSettings& settings, int levels, int width, int height,
-    int blocks);
+    int blocks, bool alpha);
 
   std::vector<float> Demodulated;   // W * H * 4: (r, g, b, 1), not clamped
   std::vector<double> RowLuminance; // H row sums of luminance(D)
@@ -67,6 +70,9 @@ private:
   std::vector<float> ColumnTents[kMaxGridLevels]; // Tx0 then Tx1 (2 W)
   std::vector<float> Scratch;       // per block: 2 rows of the largest level's Columns * Bins * 4
   std::vector<int> ScratchRanges;   // per block and row: KMin, then KMax of each column
+  std::vector<float> Alpha;         // with an opacity: W * H sanitised opacities
+  std::vector<float> AlphaCells;    // with an opacity: level 0's (GH + 2) * (GW + 2) * (GD + 1)
+  std::vector<float> AlphaScratch;  // with an opacity: per block 2 rows of ScratchFloats / 4
   PushGrid Levels[kMaxGridLevels];
   int Blocks = 0;
   std::size_t ScratchColumns = 0;

@@ -78,8 +78,19 @@ struct RowTarget
   float* Cells;
   int* KMin;
   int* KMax;
-  float Ty; ///< the pixel row's tent weight for this grid row
+  float Ty;     ///< the pixel row's tent weight for this grid row
+  float* Alpha; ///< the row's opacity scratch (Columns * Bins), or null
 };
+
+/// Adds (c0 k0, c0 k0+1, c0+1 k0, c0+1 k0+1) @a add to grid row @a t's opacity scratch.
+HWY_INLINE void AddAlpha(const RowTarget& t, int bins, int c0, int k0, const float* add)
+{
+  float* a = t.Alpha + static_cast<std::size_t>(c0) * bins + k0;
+  a[0] += add[0];
+  a[1] += add[1];
+  a[bins] += add[2];
+  a[bins + 1] += add[3];
+}
 
 /// Marks bins k0, k0 + 1 of columns c0, c0 + 1 touched.
 HWY_INLINE void Touch(const RowTarget& t, int c0, int k0)
@@ -116,13 +127,22 @@ HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_
   auto up1 = hn::Zero(d8);
   auto lo0 = hn::Zero(d8);
   auto lo1 = hn::Zero(d8);
-  const auto add = [&](const RowTarget& t, hn::Vec<D8> acc0, hn::Vec<D8> acc1)
+  // The opacity's sums of the run: (c0 k0, c0 k0+1, c0+1 k0, c0+1 k0+1) per grid row.
+  const float* alpha = in.Alpha ? in.Alpha + row : nullptr;
+  const int bins = g.Bins;
+  float upA[4] = { 0.f, 0.f, 0.f, 0.f };
+  float loA[4] = { 0.f, 0.f, 0.f, 0.f };
+  const auto add = [&](const RowTarget& t, hn::Vec<D8> acc0, hn::Vec<D8> acc1, const float* accA)
   {
     float* cell = t.Cells + static_cast<std::size_t>(runColumn) * columnFloats + 4 * runBin;
     hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc0), d8, cell);
     cell += columnFloats;
     hn::StoreU(hn::Add(hn::LoadU(d8, cell), acc1), d8, cell);
     Touch(t, runColumn, runBin);
+    if (alpha)
+    {
+      AddAlpha(t, bins, runColumn, runBin, accA);
+    }
   };
   const auto flush = [&]()
   {
@@ -132,11 +152,11 @@ HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_
     }
     if (kUpper)
     {
-      add(upper, up0, up1);
+      add(upper, up0, up1, upA);
     }
     if (kLower)
     {
-      add(lower, lo0, lo1);
+      add(lower, lo0, lo1, loA);
     }
   };
   for (int x = 0; x < in.Width; ++x)
@@ -153,26 +173,51 @@ HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_
       up1 = hn::Zero(d8);
       lo0 = hn::Zero(d8);
       lo1 = hn::Zero(d8);
+      std::fill(upA, upA + 4, 0.f);
+      std::fill(loA, loA + 4, 0.f);
     }
-    const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
+    const float tz0 = Tent(z - static_cast<float>(k0));
+    const float tz1 = Tent(z - static_cast<float>(k0 + 1));
+    const auto tz = Pair(tz0, tz1);
     const auto v4 = hn::Min(hn::LoadU(dh, demod + 4 * x), hn::Load(dh, limit));
     const auto value = hn::Combine(d8, v4, v4);
+    // The opacity's four taps, each tap's weight computed as the colour's lanes are (scalar
+    // sums: a vector built from four stores would stall on store forwarding).
+    const auto pushAlpha = [&](float ty, float* acc)
+    {
+      const float a = alpha[x];
+      const float w0 = g.Tx0[x] * ty;
+      const float w1 = g.Tx1[x] * ty;
+      acc[0] += (w0 * tz0) * a;
+      acc[1] += (w0 * tz1) * a;
+      acc[2] += (w1 * tz0) * a;
+      acc[3] += (w1 * tz1) * a;
+    };
     if (kUpper)
     {
       up0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * upper.Ty), tz), value, up0);
       up1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * upper.Ty), tz), value, up1);
+      if (alpha)
+      {
+        pushAlpha(upper.Ty, upA);
+      }
     }
     if (kLower)
     {
       lo0 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx0[x] * lower.Ty), tz), value, lo0);
       lo1 = hn::MulAdd(hn::Mul(hn::Set(d8, g.Tx1[x] * lower.Ty), tz), value, lo1);
+      if (alpha)
+      {
+        pushAlpha(lower.Ty, loA);
+      }
     }
   }
   flush();
 #else
   const D4 d;
+  const float* alpha = in.Alpha ? in.Alpha + row : nullptr;
   const auto push = [&](const RowTarget& t, int c0, int k0, float tx0, float tx1, float tz0,
-                      float tz1, const float* value)
+                      float tz1, const float* value, int x)
   {
     float* cell = t.Cells + static_cast<std::size_t>(c0) * columnFloats + 4 * k0;
     const float w0 = tx0 * t.Ty;
@@ -182,6 +227,12 @@ HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_
     Push(cell + columnFloats, w1 * tz0, value);
     Push(cell + columnFloats + 4, w1 * tz1, value);
     Touch(t, c0, k0);
+    if (alpha)
+    {
+      const float a = alpha[x];
+      const float add[4] = { w0 * tz0 * a, w0 * tz1 * a, w1 * tz0 * a, w1 * tz1 * a };
+      AddAlpha(t, g.Bins, c0, k0, add);
+    }
   };
   for (int x = 0; x < in.Width; ++x)
   {
@@ -196,11 +247,11 @@ HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_
           value + o); });
     if (kUpper)
     {
-      push(upper, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value);
+      push(upper, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value, x);
     }
     if (kLower)
     {
-      push(lower, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value);
+      push(lower, c0, k0, g.Tx0[x], g.Tx1[x], tz0, tz1, value, x);
     }
   }
 #endif
@@ -215,8 +266,14 @@ void SplatGridRowsKernel(
   const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * columnFloats;
   const float inf = std::numeric_limits<float>::infinity();
   HWY_ALIGN const float limit[4] = { in.Limit, in.Limit, in.Limit, inf }; // weight lane: never
+  const bool withAlpha = in.Alpha && g.Alpha;
   const auto target = [&](int j, float ty)
-  { return RowTarget{ s.Cells[j & 1], s.KMin[j & 1], s.KMax[j & 1], ty }; };
+  {
+    return RowTarget{ s.Cells[j & 1], s.KMin[j & 1], s.KMax[j & 1], ty,
+      withAlpha ? s.Alpha[j & 1] : nullptr };
+  };
+  SplatInput input = in;
+  input.Alpha = withAlpha ? in.Alpha : nullptr;
   // The pixel rows with J0 = j0 push into grid rows j0 and j0 + 1 (J0 never decreases with y).
   int y = static_cast<int>(std::lower_bound(g.J0, g.J0 + in.Height, jBegin - 1) - g.J0);
   for (int j0 = jBegin - 1; j0 < jEnd; ++j0)
@@ -231,15 +288,15 @@ void SplatGridRowsKernel(
       const bool l = ownLower && lower.Ty > 0.f;
       if (u && l)
       {
-        PushPixelRow<true, true>(in, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<true, true>(input, g, columnFloats, limit, y, upper, lower);
       }
       else if (u)
       {
-        PushPixelRow<true, false>(in, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<true, false>(input, g, columnFloats, limit, y, upper, lower);
       }
       else if (l)
       {
-        PushPixelRow<false, true>(in, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<false, true>(input, g, columnFloats, limit, y, upper, lower);
       }
     }
     if (!ownUpper)
@@ -269,12 +326,48 @@ void SplatGridRowsKernel(
         ForCell([&](std::size_t o)
           { hn::StoreU(w > 0.f ? hn::Div(hn::LoadU(d, scratch + 4 * k + o), hn::Set(d, w))
                                 : hn::Zero(d), d, cell + o); });
+        if (withAlpha)
+        {
+          const std::size_t a = static_cast<std::size_t>(c) * g.Bins + k;
+          g.Alpha[static_cast<std::size_t>(j0 + 1) * g.Columns * g.Bins + a] =
+            w > 0.f ? done.Alpha[a] / w : 0.f;
+        }
       }
       std::fill(scratch + 4 * kLo, scratch + 4 * (kHi + 1), 0.f);
+      if (withAlpha)
+      {
+        float* a = done.Alpha + static_cast<std::size_t>(c) * g.Bins;
+        std::fill(a + kLo, a + kHi + 1, 0.f);
+      }
       done.KMin[c] = INT_MAX;
       done.KMax[c] = -1;
     }
   }
+}
+
+/// Level @a g's opacity sum at pixel (@a x, @a y) with guide @a guide: its eight taps weighted
+/// as the colour's slice weighs them (the colour's kept weight divides it; an empty cell's
+/// opacity is 0).
+HWY_INLINE float SliceAlphaSum(const PushGrid& g, int y, int x, float guide)
+{
+  const std::size_t rowCells = static_cast<std::size_t>(g.Columns) * g.Bins;
+  const float z = GuideToGrid(guide, g.Geometry.RangeStep);
+  const int k0 = FloorToInt(z);
+  const float tz0 = Tent(z - static_cast<float>(k0));
+  const float tz1 = Tent(z - static_cast<float>(k0 + 1));
+  const float* a0 = g.Alpha + static_cast<std::size_t>(g.J0[y] + 1) * rowCells +
+    static_cast<std::size_t>(g.I0[x] + 1) * g.Bins + static_cast<std::size_t>(k0);
+  const float* a1 = a0 + rowCells;
+  const float w00 = g.Tx0[x] * g.Ty0[y];
+  const float w10 = g.Tx1[x] * g.Ty0[y];
+  const float w01 = g.Tx0[x] * g.Ty1[y];
+  const float w11 = g.Tx1[x] * g.Ty1[y];
+  const std::size_t b = static_cast<std::size_t>(g.Bins);
+  const float upper = (w00 * tz0) * a0[0] + (w00 * tz1) * a0[1] + (w10 * tz0) * a0[b] +
+    (w10 * tz1) * a0[b + 1];
+  const float lower = (w01 * tz0) * a1[0] + (w01 * tz1) * a1[1] + (w11 * tz0) * a1[b] +
+    (w11 * tz1) * a1[b + 1];
+  return upper + lower;
 }
 
 /// Image row @a y's two grid rows (j0, j0 + 1) and their tent weights, per level.
@@ -296,7 +389,8 @@ HWY_INLINE void SliceGridRows(const SliceInput& in, int y, const float* rows[][2
 /// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a row0 (weight
 /// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero.
 HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRICT row0,
-  const float* HWY_RESTRICT row1, float ty0, float ty1, int x, float guide)
+  const float* HWY_RESTRICT row1, float ty0, float ty1, int x, float guide,
+  float* keptWeight = nullptr)
 {
   const D8 d8;
   const DH dh;
@@ -318,6 +412,10 @@ HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRI
   const auto acc = hn::Add(upper, lower);
   const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
   const auto weight = hn::Broadcast<3>(total); // the kept weights; 0: every tap dropped
+  if (keptWeight)
+  {
+    *keptWeight = hn::GetLane(weight);
+  }
   return hn::IfThenElseZero(hn::Gt(weight, hn::Zero(dh)), hn::Div(total, weight));
 }
 
@@ -340,7 +438,13 @@ void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
     {
       const std::size_t p = row + x;
       const float* guides = in.Guides + p * levels;
-      auto r = SliceLevelWide(in.Levels[0], rows[0][0], rows[0][1], ty0[0], ty1[0], x, guides[0]);
+      float kept = 0.f;
+      auto r = SliceLevelWide(in.Levels[0], rows[0][0], rows[0][1], ty0[0], ty1[0], x, guides[0],
+        in.AlphaOut ? &kept : nullptr);
+      if (in.AlphaOut)
+      {
+        in.AlphaOut[p] = kept > 0.f ? SliceAlphaSum(in.Levels[0], y, x, guides[0]) / kept : 0.f;
+      }
       if (levels >= 2)
       {
         // Blend: s1 w1 + s2 (1 - w1), or s1 w1 + s2 w2 + s3 (1 - w1 - w2) (ptvBilateralGrid.h)
@@ -442,6 +546,11 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         if (sum[3] > 0.f) // the kept weights; 0 when every tap was dropped
         {
           s[l] = MakeVec3(sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3]);
+        }
+        if (l == 0 && in.AlphaOut)
+        {
+          in.AlphaOut[p] = sum[3] > 0.f
+            ? SliceAlphaSum(g, y, x, in.Guides[p * levels]) / sum[3] : 0.f;
         }
       }
       const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;

@@ -266,7 +266,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     error = "the denoised opacity needs the Alpha pass";
     return false;
   }
-  if (!this->RunColor(settings, passes, width, height, out, error, given))
+  if (!this->RunColor(settings, passes, width, height, out, error, given, alpha))
   {
     return false;
   }
@@ -275,14 +275,22 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     return true;
   }
   const double start = NowMs();
-  this->DenoiseOpacity(settings, passes[PassAlpha], width, height, alpha, out);
+  if (this->LastRanGrid && this->Grid.GetLastAlphaDone())
+  {
+    // The CPU grid filtered the opacity beside the colour (its time is in Splat and Slice).
+    FinishOpacity(settings.Threads, width, height, alpha, out);
+  }
+  else
+  {
+    this->DenoiseOpacity(settings, passes[PassAlpha], width, height, alpha, out);
+  }
   this->Timings.Alpha = NowMs() - start;
   return true;
 }
 
 //------------------------------------------------------------------------------
 bool Denoiser::RunColor(const DenoiserSettings& settings, const float* const* passes, int width,
-  int height, float* out, std::string& error, const DenoiserOverrides* given)
+  int height, float* out, std::string& error, const DenoiserOverrides* given, float* alpha)
 {
   this->Timings = DenoiserTimings{};
   this->LastRanGrid = false;
@@ -401,7 +409,7 @@ bool Denoiser::RunColor(const DenoiserSettings& settings, const float* const* pa
   const float* weights = this->Levels > 1 ? this->Weights.data() : nullptr;
   std::string cudaError;
   this->Grid.Apply(grid, settings.UseCuda, width, height, passes[PassRadiance], albedo,
-    this->Guides.data(), weights, out, cudaError);
+    this->Guides.data(), weights, out, cudaError, alpha ? passes[PassAlpha] : nullptr, alpha);
   if (settings.UseCuda && !this->Grid.GetLastOnCuda() && cudaError != this->LastGridWarning)
   {
     this->Warning += (this->Warning.empty() ? "" : "\n") +
@@ -462,7 +470,22 @@ void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alp
     {
       for (std::size_t i = begin; i < end; ++i)
       {
-        alpha[i] = std::min(1.0f, std::max(0.0f, filtered[3 * i]));
+        alpha[i] = filtered[3 * i];
+      }
+    });
+  FinishOpacity(threads, width, height, alpha, color);
+}
+
+//------------------------------------------------------------------------------
+void Denoiser::FinishOpacity(int threads, int width, int height, float* alpha, float* color)
+{
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
+    [&](std::size_t begin, std::size_t end)
+    {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        alpha[i] = std::min(1.0f, std::max(0.0f, alpha[i]));
         if (alpha[i] == 0.0f) // no event near: what is here came from the coarser levels
         {
           color[3 * i] = color[3 * i + 1] = color[3 * i + 2] = 0.0f;

@@ -53,7 +53,10 @@ struct DenoiserOverrides
 struct DenoiserTimings
 {
   double Features = 0, GuideNet = 0, Splat = 0, Slice = 0; ///< ms of the last Run
-  double Alpha = 0; ///< ms of the last Run's opacity (Run's @a alpha; 0 without)
+  /// ms of the last Run's opacity (Run's @a alpha; 0 without): on the CPU grid only its last
+  /// step (clamp, colour to 0), since the opacity rides in the colour's Splat and Slice there;
+  /// on the CUDA grid or without a grid the whole of DenoiseOpacity.
+  double Alpha = 0;
 };
 
 class Denoiser
@@ -68,8 +71,8 @@ public:
    * says why, once.
    *
    * With @a alpha (width * height floats) the Alpha pass (then required) goes through the
-   * finest level of the same grid (DenoiseOpacity) into @a alpha: the opacity to draw @a out
-   * with. Where it is 0 no pixel near this one in the finest level's space (4 pixels, a guide
+   * finest level of the same grid into @a alpha (on the CPU beside the colour, in the same
+   * splat and slice; on CUDA by DenoiseOpacity): the opacity to draw @a out with. Where it is 0 no pixel near this one in the finest level's space (4 pixels, a guide
    * bin) has an event, so the colour the coarser levels spread there is set to 0 as well; with
    * one level that colour is 0 already. An image model has no grid: @a alpha is then a copy of
    * the Alpha pass and the colour stays.
@@ -110,9 +113,12 @@ private:
   /// The network's guides and weights (NetworkActive stays true) or false after a run error.
   bool RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done);
-  /// Run without the opacity.
+  /// Run up to the opacity's last step: with @a alpha the CPU grid also writes the opacity
+  /// through its finest level into it, unclamped (then Grid.GetLastAlphaDone()).
   bool RunColor(const DenoiserSettings& settings, const float* const* passes, int width,
-    int height, float* out, std::string& error, const DenoiserOverrides* given);
+    int height, float* out, std::string& error, const DenoiserOverrides* given, float* alpha);
+  /// @a alpha clamped to [0, 1], and @a color set to 0 where that is 0.
+  static void FinishOpacity(int threads, int width, int height, float* alpha, float* color);
   /// The fixed guide's guides and weights from albedo, depth and normal.
   bool FixedGuide(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, std::string& error);
