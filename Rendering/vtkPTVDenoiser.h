@@ -198,7 +198,9 @@ public:
   double GetLastGuideNetTime();
   double GetLastSplatTime();
   double GetLastSliceTime();
-  /// The opacity with DenoiseAlpha on (0 otherwise).
+  /// The opacity with DenoiseAlpha on (0 otherwise): on the CPU grid only its last step
+  /// (clamp, colour set to 0), as the opacity rides in the colour's splat and slice there; on
+  /// the CUDA grid its own grid pass.
   double GetLastAlphaTime();
   ///@}
 
