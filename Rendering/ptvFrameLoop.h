@@ -60,7 +60,7 @@ struct FrameRequest
   int MaximumAccumulatedFrames = 1024;
   /// When only the view changed, reproject the accumulation instead of dropping it.
   bool TemporalReprojection = true;
-  int MaximumHistory = 2; ///< frames of reprojected history a pixel keeps at most
+  int MaximumHistory = 1; ///< frames of reprojected history a pixel keeps at most
   int Threads = 0;                   ///< <= 0: every core
   int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
   bool Denoise = true;

@@ -82,10 +82,12 @@ public:
    * surface (depth, normal and albedo agree; disocclusions and silhouettes start afresh), and
    * its Radiance and Alpha (the other passes restart with the view) join that history as
    * an exponential moving average of at most
-   * MaximumHistory frames (default 2, range [1, 1000000]): more history is less noisy, but
+   * MaximumHistory frames (default 1, range [1, 1000000]): more history is less noisy, but
    * lags behind what changes with the view (lights that follow the camera, highlights, content
-   * behind the first event, which moves with another parallax); on a 2-degree-per-frame orbit
-   * of the head at 512^2, 2 was the most accurate (Testing/Benchmarks/temporal_reuse.py).
+   * behind the first event, which moves with another parallax); on 2-degree-per-frame orbits
+   * of the head and the stent, 1 and 2 are equally close to the converged views and 2 is
+   * steadier (tPSNR +0.1 dB), but after a transfer-function change 2 left frames up to 0.12 dB
+   * below the same samples without history, 1 at most 0.02 (docs/temporal.md).
    * The cap shrinks as the view turns between frames and reaches 0 at a turn of 8 degrees
    * (a fast orbit starts afresh each frame; a pan or zoom keeps it). A still camera
    * accumulates exactly as with it off. Off: every camera change starts again from one frame.
@@ -460,7 +462,7 @@ protected:
   int SamplesPerFrame = 1;
   int MaximumAccumulatedFrames = 1024;
   bool TemporalReprojection = true;
-  int MaximumHistory = 2;
+  int MaximumHistory = 1;
   bool ConvergeStillRenders = true;
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;

@@ -62,7 +62,7 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--ref-spp", type=int, default=32, help="spp of each converged view")
     p.add_argument("--histories", type=int, nargs="+", default=[1, 2, 4, 8],
                    help="MaximumHistory values to run")
-    p.add_argument("--default-history", type=int, default=2,
+    p.add_argument("--default-history", type=int, default=1,
                    help="the MaximumHistory the verdicts are about (the mapper's default)")
     p.add_argument("--datasets-orbit", nargs="+", default=["head", "stent"])
     p.add_argument("--datasets-static", nargs="+", default=["head", "stent", "concrete"])

@@ -101,7 +101,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--step", type=float, nargs=2, default=[1.0, 4.0], metavar=("MIN", "MAX"),
                    help="degrees between views, drawn per view (default 1 4)")
     p.add_argument("--max-history", type=int, default=2,
-                   help="the mapper's MaximumHistory (default 2, its default)")
+                   help="the mapper's MaximumHistory (default 2: the mapper's default until "
+                        "2026-12-04, 1 since)")
     p.add_argument("--seed", type=int, default=7000, help="seed of the paths and the frames")
     p.add_argument("--datasets", nargs="*", default=None, help="only these datasets")
     a = p.parse_args(argv)
