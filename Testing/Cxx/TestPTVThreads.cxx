@@ -72,6 +72,23 @@ void TestCoverage()
   Check(sum.load() == std::size_t(100000) * 99999 / 2, "size_t range: sum of its indices");
 }
 
+// A rendezvous of two chunks: counts this one in and waits until two have come (false after
+// 20 s: they did not run at the same time).
+bool MeetTheOther(std::atomic<int>& started)
+{
+  ++started;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (started.load() < 2)
+  {
+    if (std::chrono::steady_clock::now() > until)
+    {
+      return false;
+    }
+    std::this_thread::yield();
+  }
+  return true;
+}
+
 // Chunk 0 waits until chunk 1 has started and the other way round: only two threads running at
 // once get past it (a sequential loop would wait out the timeout).
 void TestRunsInParallel()
@@ -81,16 +98,9 @@ void TestRunsInParallel()
   ptv::ParallelFor(2, 0, 2, 1,
     [&](int, int)
     {
-      ++started;
-      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-      while (started.load() < 2)
+      if (!MeetTheOther(started))
       {
-        if (std::chrono::steady_clock::now() > until)
-        {
-          timedOut = true;
-          return;
-        }
-        std::this_thread::yield();
+        timedOut = true;
       }
     });
   Check(!timedOut.load(), "two chunks run at the same time on two threads");
@@ -159,20 +169,9 @@ void TestShares()
         {
           workerFirst.compare_exchange_strong(none, a);
         }
-        if (a != 0 && a != 32)
+        if ((a == 0 || a == 32) && !MeetTheOther(started))
         {
-          return;
-        }
-        ++started;
-        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-        while (started.load() < 2)
-        {
-          if (std::chrono::steady_clock::now() > until)
-          {
-            timedOut = true;
-            return;
-          }
-          std::this_thread::yield();
+          timedOut = true;
         }
       });
     Check(!timedOut.load(), "chunks 0 and 32 run at the same time");
