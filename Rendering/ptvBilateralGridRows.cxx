@@ -345,24 +345,25 @@ void SplatGridRowsKernel(
   }
 }
 
-/// Level @a g's opacity sum at pixel (@a x, @a y) with guide @a guide: its eight taps weighted
-/// as the colour's slice weighs them (the colour's kept weight divides it; an empty cell's
-/// opacity is 0).
-HWY_INLINE float SliceAlphaSum(const PushGrid& g, int y, int x, float guide)
+/// Level @a g's opacity plane at image row @a y's grid row j0 (j0 + 1 follows it).
+HWY_INLINE const float* AlphaRow(const PushGrid& g, int y)
 {
-  const std::size_t rowCells = static_cast<std::size_t>(g.Columns) * g.Bins;
-  const float z = GuideToGrid(guide, g.Geometry.RangeStep);
-  const int k0 = FloorToInt(z);
-  const float tz0 = Tent(z - static_cast<float>(k0));
-  const float tz1 = Tent(z - static_cast<float>(k0 + 1));
-  const float* a0 = g.Alpha + static_cast<std::size_t>(g.J0[y] + 1) * rowCells +
-    static_cast<std::size_t>(g.I0[x] + 1) * g.Bins + static_cast<std::size_t>(k0);
-  const float* a1 = a0 + rowCells;
-  const float w00 = g.Tx0[x] * g.Ty0[y];
-  const float w10 = g.Tx1[x] * g.Ty0[y];
-  const float w01 = g.Tx0[x] * g.Ty1[y];
-  const float w11 = g.Tx1[x] * g.Ty1[y];
+  return g.Alpha + static_cast<std::size_t>(g.J0[y] + 1) * g.Columns * g.Bins;
+}
+
+/// The opacity sum of the taps the colour's slice weighs at column @a x, bin @a k0 (tents
+/// @a tz0, @a tz1) and grid rows @a alphaRow (weight @a ty0) and the next one (@a ty1); the
+/// colour's kept weight divides it (an empty cell's opacity is 0).
+HWY_INLINE float SliceAlphaSum(const PushGrid& g, const float* alphaRow, int x, int k0,
+  float tz0, float tz1, float ty0, float ty1)
+{
   const std::size_t b = static_cast<std::size_t>(g.Bins);
+  const float* a0 = alphaRow + static_cast<std::size_t>(g.I0[x] + 1) * b + k0;
+  const float* a1 = a0 + static_cast<std::size_t>(g.Columns) * b;
+  const float w00 = g.Tx0[x] * ty0;
+  const float w10 = g.Tx1[x] * ty0;
+  const float w01 = g.Tx0[x] * ty1;
+  const float w11 = g.Tx1[x] * ty1;
   const float upper = (w00 * tz0) * a0[0] + (w00 * tz1) * a0[1] + (w10 * tz0) * a0[b] +
     (w10 * tz1) * a0[b + 1];
   const float lower = (w01 * tz0) * a1[0] + (w01 * tz1) * a1[1] + (w11 * tz0) * a1[b] +
@@ -387,17 +388,20 @@ HWY_INLINE void SliceGridRows(const SliceInput& in, int y, const float* rows[][2
 
 #if PTV_GRID_WIDE
 /// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a row0 (weight
-/// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero.
+/// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero. With
+/// @a alphaRow (AlphaRow) the opacity of the same taps into @a alpha.
 HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRICT row0,
   const float* HWY_RESTRICT row1, float ty0, float ty1, int x, float guide,
-  float* keptWeight = nullptr)
+  const float* alphaRow = nullptr, float* alpha = nullptr)
 {
   const D8 d8;
   const DH dh;
   const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
   const float z = GuideToGrid(guide, g.Geometry.RangeStep);
   const int k0 = FloorToInt(z);
-  const auto tz = Pair(Tent(z - static_cast<float>(k0)), Tent(z - static_cast<float>(k0 + 1)));
+  const float tz0 = Tent(z - static_cast<float>(k0));
+  const float tz1 = Tent(z - static_cast<float>(k0 + 1));
+  const auto tz = Pair(tz0, tz1);
   const std::size_t offset =
     static_cast<std::size_t>(g.I0[x] + 1) * columnFloats + 4 * static_cast<std::size_t>(k0);
   const float* c00 = row0 + offset; // (j0, i0)
@@ -412,9 +416,10 @@ HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRI
   const auto acc = hn::Add(upper, lower);
   const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
   const auto weight = hn::Broadcast<3>(total); // the kept weights; 0: every tap dropped
-  if (keptWeight)
+  if (alphaRow)
   {
-    *keptWeight = hn::GetLane(weight);
+    const float kept = hn::GetLane(weight);
+    *alpha = kept > 0.f ? SliceAlphaSum(g, alphaRow, x, k0, tz0, tz1, ty0, ty1) / kept : 0.f;
   }
   return hn::IfThenElseZero(hn::Gt(weight, hn::Zero(dh)), hn::Div(total, weight));
 }
@@ -434,17 +439,13 @@ void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
     float ty1[kMaxGridLevels] = {};
     SliceGridRows(in, y, rows, ty0, ty1);
     const std::size_t row = static_cast<std::size_t>(y) * in.Width;
+    const float* alphaRow = in.AlphaOut ? AlphaRow(in.Levels[0], y) : nullptr;
     for (int x = 0; x < in.Width; ++x)
     {
       const std::size_t p = row + x;
       const float* guides = in.Guides + p * levels;
-      float kept = 0.f;
       auto r = SliceLevelWide(in.Levels[0], rows[0][0], rows[0][1], ty0[0], ty1[0], x, guides[0],
-        in.AlphaOut ? &kept : nullptr);
-      if (in.AlphaOut)
-      {
-        in.AlphaOut[p] = kept > 0.f ? SliceAlphaSum(in.Levels[0], y, x, guides[0]) / kept : 0.f;
-      }
+        alphaRow, alphaRow ? in.AlphaOut + p : nullptr);
       if (levels >= 2)
       {
         // Blend: s1 w1 + s2 (1 - w1), or s1 w1 + s2 w2 + s3 (1 - w1 - w2) (ptvBilateralGrid.h)
@@ -550,7 +551,8 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         if (l == 0 && in.AlphaOut)
         {
           in.AlphaOut[p] = sum[3] > 0.f
-            ? SliceAlphaSum(g, y, x, in.Guides[p * levels]) / sum[3] : 0.f;
+            ? SliceAlphaSum(g, AlphaRow(g, y), x, k0, tz0, tz1, ty0[0], ty1[0]) / sum[3]
+            : 0.f;
         }
       }
       const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;

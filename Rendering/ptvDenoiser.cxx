@@ -278,7 +278,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   if (this->LastRanGrid && this->Grid.GetLastAlphaDone())
   {
     // The CPU grid filtered the opacity beside the colour (its time is in Splat and Slice).
-    FinishOpacity(settings.Threads, width, height, alpha, out);
+    FinishOpacity(settings.Threads, width, height, alpha, 1, alpha, out);
   }
   else
   {
@@ -464,20 +464,12 @@ void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alp
   std::string cudaError; // a failing device falls back to the CPU, as in Run (warned there)
   this->Grid.Apply(grid, settings.UseCuda, width, height, rgb, nullptr,
     levels > 1 ? fine : guides, nullptr, this->Filtered.data(), cudaError);
-  const float* filtered = this->Filtered.data();
-  ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
-    [&](std::size_t begin, std::size_t end)
-    {
-      for (std::size_t i = begin; i < end; ++i)
-      {
-        alpha[i] = filtered[3 * i];
-      }
-    });
-  FinishOpacity(threads, width, height, alpha, color);
+  FinishOpacity(threads, width, height, this->Filtered.data(), 3, alpha, color);
 }
 
 //------------------------------------------------------------------------------
-void Denoiser::FinishOpacity(int threads, int width, int height, float* alpha, float* color)
+void Denoiser::FinishOpacity(int threads, int width, int height, const float* filtered,
+  int stride, float* alpha, float* color)
 {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
@@ -485,7 +477,7 @@ void Denoiser::FinishOpacity(int threads, int width, int height, float* alpha, f
     {
       for (std::size_t i = begin; i < end; ++i)
       {
-        alpha[i] = std::min(1.0f, std::max(0.0f, alpha[i]));
+        alpha[i] = std::min(1.0f, std::max(0.0f, filtered[stride * i]));
         if (alpha[i] == 0.0f) // no event near: what is here came from the coarser levels
         {
           color[3 * i] = color[3 * i + 1] = color[3 * i + 2] = 0.0f;

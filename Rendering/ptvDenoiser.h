@@ -117,8 +117,10 @@ private:
   /// through its finest level into it, unclamped (then Grid.GetLastAlphaDone()).
   bool RunColor(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, float* out, std::string& error, const DenoiserOverrides* given, float* alpha);
-  /// @a alpha clamped to [0, 1], and @a color set to 0 where that is 0.
-  static void FinishOpacity(int threads, int width, int height, float* alpha, float* color);
+  /// @a alpha = every @a stride th value of @a filtered (may be @a alpha itself, stride 1)
+  /// clamped to [0, 1], and @a color set to 0 where that is 0.
+  static void FinishOpacity(int threads, int width, int height, const float* filtered,
+    int stride, float* alpha, float* color);
   /// The fixed guide's guides and weights from albedo, depth and normal.
   bool FixedGuide(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, std::string& error);
