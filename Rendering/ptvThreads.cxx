@@ -97,7 +97,7 @@ public:
       for (int s = 0; s < this->Shares; ++s)
       {
         this->ShareBegin[s] = chunks * static_cast<std::size_t>(s) / this->Shares;
-        this->Taken[s].store(0);
+        this->Counters[s].Taken.store(0);
       }
       this->ShareBegin[this->Shares] = chunks;
       this->Finished.store(0);
@@ -126,8 +126,8 @@ private:
       const int s = (p + k) % shares;
       const std::size_t begin = this->ShareBegin[s];
       const std::size_t end = this->ShareBegin[s + 1];
-      for (std::size_t c = begin + this->Taken[s].fetch_add(1); c < end;
-           c = begin + this->Taken[s].fetch_add(1))
+      for (std::size_t c = begin + this->Counters[s].Taken.fetch_add(1); c < end;
+           c = begin + this->Counters[s].Taken.fetch_add(1))
       {
         this->Call(this->Context, c);
         if (this->Finished.fetch_add(1) + 1 == this->Chunks)
@@ -186,12 +186,18 @@ private:
   std::size_t Chunks = 0;
   // The loop's chunks in Shares contiguous shares, one per participant (the caller is 0, worker
   // i is i + 1; more participants than kMaxShares share them): share s is chunks
-  // [ShareBegin[s], ShareBegin[s + 1]), Taken[s] of them handed out so far (it runs past the
-  // share's size as threads find it empty).
+  // [ShareBegin[s], ShareBegin[s + 1]), Counters[s].Taken of them handed out so far (it runs
+  // past the share's size as threads find it empty). Each counter has a cache line of its own,
+  // so that a participant taking chunks of its own share does not write the line another
+  // participant's counter is on.
   static constexpr int kMaxShares = 64;
   int Shares = 1;
   std::size_t ShareBegin[kMaxShares + 1] = {};
-  std::atomic<std::size_t> Taken[kMaxShares] = {};
+  struct alignas(64) ShareCounter
+  {
+    std::atomic<std::size_t> Taken{ 0 };
+  };
+  ShareCounter Counters[kMaxShares];
   std::atomic<std::size_t> Finished{ 0 };
 };
 }
