@@ -113,6 +113,24 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert (run / "best.pt").is_file() and (run / "guides_best.png").is_file()
     assert model_file.is_file() and model_file.stat().st_size < 1 << 20
 
+    # --extra-data: every view of another folder (generated with --val-views 0, another seed)
+    # joins the training split; validation stays --data's; a folder with validation views is
+    # refused.
+    extra = tmp_path / "extra"
+    assert generate.main(["--out", str(extra), "--datasets", "head", "--views", "1",
+                          "--val-views", "0", "--size", "32", "--reference-spp", "8",
+                          "--seed", "7", "--no-progress", "--threads", "2"]) == 0
+    small = ["--val-per-dataset", "1", "--hidden", "4", "--batch", "2", "--max-steps", "1",
+             "--threads", "2", "--no-progress"]
+    assert train.main(["--data", str(data), "--out", str(tmp_path / "run_extra"),
+                       "--extra-data", str(extra), *small]) == 0
+    info = json.loads((tmp_path / "run_extra" / "run.json").read_text())
+    assert len(info["train_views"]) == 2 and info["val_views"] == ["head_001.exr"]
+    assert info["extra_data"] == [str(extra)]
+    with pytest.raises(SystemExit, match="validation views"):
+        train.main(["--data", str(data), "--out", str(tmp_path / "run_bad_extra"),
+                    "--extra-data", str(data), *small])
+
     # --small-stride: the steps that run every level (the small-image case) run GuideNet at
     # that stride, the one-level steps at --stride; validation and the checkpoint keep --stride.
     seen = []

@@ -183,6 +183,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                                             "generated views; resumable.")
     p.add_argument("--data", type=Path, default=DEFAULT_DATA,
                    help=f"folder with manifest.json and the views (default: {DEFAULT_DATA})")
+    p.add_argument("--extra-data", type=Path, nargs="+", default=[], metavar="DIR",
+                   help="more folders of generated views (generate.py --val-views 0): every "
+                        "view joins the training split; validation stays --data's")
     p.add_argument("--out", type=Path, required=True,
                    help="run folder (checkpoints, log.csv, guide maps)")
     p.add_argument("--channels", default="VOLUME_FEATURES",
@@ -316,6 +319,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         train_files = [f for f in train_files if dataset_of[f] not in args.exclude]
     if args.max_views:
         train_files = train_files[:args.max_views]
+    for extra in args.extra_data:
+        more, more_val, more_manifest = split_views(extra, 0)
+        if more_val:
+            raise SystemExit(f"--extra-data {extra}: has validation views; generate it with "
+                             "--val-views 0")
+        excluded = {extra / r["file"] for r in more_manifest["views"]
+                    if r["view"]["dataset"] in args.exclude}
+        train_files += [f for f in more if f not in excluded]
     progress = not args.no_progress
     train = load_samples(train_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
     val = load_samples(val_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
@@ -375,8 +386,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             "levels": levels_string(args.levels), "parameters": count_parameters(model),
             "macs_per_pixel": macs_per_pixel(model), "train_views": [p.name for p in train_files],
             "val_views": [p.name for p in val_files], "spp": spps,
-            "data": str(args.data), "data_format": manifest.get("format"),
-            "args": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}}
+            "data": str(args.data), "extra_data": [str(d) for d in args.extra_data],
+            "data_format": manifest.get("format"),
+            "args": {k: (str(v) if isinstance(v, Path) else
+                         [str(x) for x in v] if k == "extra_data" else v)
+                     for k, v in vars(args).items()}}
     write_text(out / "run.json", json.dumps(info, indent=1) + "\n")
     print(f"{type(model).__name__} {model.config()}: {count_parameters(model)} parameters, "
           f"{macs_per_pixel(model)} MAC/pixel; {len(train)} training samples "
