@@ -41,6 +41,9 @@ def random_net(in_channels: int, seed: int, **kw) -> GuideNet:
     with torch.no_grad():
         for p in net.parameters():
             p.mul_(3.0)
+        if net.context:  # its last convolution starts at zero: give it weights of its own
+            for p in net.core.context[2].parameters():
+                p.normal_(0.0, 1.0)
     return net.eval()
 
 
@@ -447,6 +450,49 @@ def test_export_strided_padded(tmp_path: Path) -> None:
         export(net, tmp_path / "x.onnx", F.PAPER_10, extra_metadata={"ptv.guide_stride": "1"})
 
 
+def test_context_branch(tmp_path: Path) -> None:
+    """--context P: the branch starts at zero (the output is the core's alone), a coarse cell
+    is the mean of the pixels it covers inside the image, and the exported graph runs in ONNX
+    Runtime as in torch at sizes that P does not divide, also shipped with fewer levels (the
+    branch's outputs reordered with the core's)."""
+    import onnxruntime as ort
+    import torch.nn.functional as tf
+    from ptv_training.export_onnx import level_order
+
+    torch.manual_seed(3)
+    fresh = GuideNet(10, hidden=8, kernel=3, stride=2, out_channels=8, context=4)
+    plain = GuideNet(10, hidden=8, kernel=3, stride=2, out_channels=8)
+    plain.core.load_state_dict({k: v for k, v in fresh.core.state_dict().items()
+                                if not k.startswith("context.")})
+    feats = torch.from_numpy(random_features(10, 19, 27, 5))[None]
+    with torch.no_grad():
+        assert torch.equal(fresh(feats), plain(feats))
+    assert fresh.config()["context"] == 4 and fresh.config()["context_hidden"] == 16
+    assert "context" not in plain.config()
+    assert macs_per_pixel(fresh) == macs_per_pixel(plain) + (9 * 10 * 16 + 16 * 8) / 16 / 4
+    with pytest.raises(ValueError, match="context"):
+        GuideNet(10, context=-1)
+
+    # The pooled cells: a 6 x 5 image in cells of 4 -> the 4 x 4, 4 x 1, 2 x 4 and 2 x 1 means.
+    x = torch.arange(30.0).reshape(1, 1, 6, 5)
+    ones = torch.ones_like(x)
+    pooled = tf.avg_pool2d(x, 4, ceil_mode=True) / tf.avg_pool2d(ones, 4, ceil_mode=True)
+    expected = torch.tensor([[x[0, 0, :4, :4].mean(), x[0, 0, :4, 4:].mean()],
+                             [x[0, 0, 4:, :4].mean(), x[0, 0, 4:, 4:].mean()]])
+    assert torch.allclose(pooled[0, 0], expected)
+
+    net = random_net(10, 17, hidden=8, kernel=3, stride=2, out_channels=8, context=4)
+    for levels in (3, 1):
+        path = export(net, tmp_path / f"ctx{levels}.onnx", F.PAPER_10, use_levels=levels)
+        session = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+        for w, h in SIZES + [(1, 1), (5, 9), (9, 5)]:
+            low = torch.from_numpy(random_features(10, h, w, w * h))[None]
+            (got,) = session.run(None, {"features": low.numpy()})
+            with torch.no_grad():
+                expected = net.core(low).numpy()[:, level_order(3, levels, 8)]
+            assert float(np.abs(got - expected).max()) <= TOL, (levels, w, h)
+
+
 @pytest.mark.parametrize("w,h", SIZES)
 def test_onnxruntime_python_matches_torch(tmp_path: Path, w: int, h: int) -> None:
     import onnxruntime as ort
@@ -467,6 +513,7 @@ NETS = {
     "volume14_h8": (F.VOLUME_FEATURES, {"hidden": 8}),
     "color3_single_conv_k3": (F.COLOR_ONLY, {"hidden": 0, "kernel": 3}),
     "paper10_h16_k5k3": (F.PAPER_10, {"hidden": 16, "kernel2": 3}),
+    "paper10_h8_context4": (F.PAPER_10, {"hidden": 8, "kernel": 3, "context": 4}),
 }
 PROVIDERS = ("CPUExecutionProvider", "CUDAExecutionProvider")
 

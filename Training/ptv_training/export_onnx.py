@@ -42,7 +42,7 @@ import torch
 from pathtracedvolume.atomic import write_bytes
 
 from .features import resolve_channels
-from .guidenet import STRIDES, GuideNet, count_parameters
+from .guidenet import STRIDES, GuideNet, count_parameters, output_convs
 
 FORMAT = "guidenet-v1"
 IMAGE_FORMAT = "denoiser-v1"  # image-to-image baseline: output = denoised radiance
@@ -140,11 +140,11 @@ def export(model: GuideNet, path: str | os.PathLike, channels: Sequence[str],
     n = model.levels if use_levels is None else int(use_levels)
     if n != model.levels:
         core = copy.deepcopy(model.core)
-        last = [m for m in core if isinstance(m, torch.nn.Conv2d)][-1]
         order = torch.tensor(level_order(model.levels, n, model.out_channels))
         with torch.no_grad():
-            last.weight.copy_(last.weight[order])
-            last.bias.copy_(last.bias[order])
+            for last in output_convs(core):
+                last.weight.copy_(last.weight[order])
+                last.bias.copy_(last.bias[order])
     return _write(core, model.in_channels, OUTPUT_NAME, props, doc, Path(path))
 
 

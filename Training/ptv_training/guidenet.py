@@ -28,6 +28,14 @@ Stride ``s`` in {1, 2, 4, 8}: the core runs at reduced resolution. ``forward(fea
    at 0, neighbour index clamped at h - 1: PyTorch's rule);
 4. returns ``[N, out_channels, H, W]``.
 
+Context ``p`` > 0 (an ablation, ``train.py --context``): the core also pools its input to 1/p of
+its resolution (each coarse cell the mean of the pixels it covers inside the image), runs ``conv 3 x 3, in -> context_hidden, LeakyReLU(0.2), conv 1 x 1 ->
+out_channels`` there (the second convolution starts at zero) and adds that, bilinearly resized
+to the core's resolution, to the second convolution's output before the sigmoid: each region
+of about 3p x 3p network pixels shifts the guides and blend weights of its pixels (a fog seen
+as a whole can choose the coarse levels). It is part of the exported graph; the C++ side does
+not change.
+
 With s == 1 and out_channels == 2L - 1 this is exactly the original network. The original
 network is ``GuideNet(10)`` (5 x 5, 10 -> 20 -> 5): 7,525 parameters. Checkpoints written before
 ``core`` existed (state_dict keys ``body.*``) still load.
@@ -43,6 +51,49 @@ from torch import nn
 STRIDES = (1, 2, 4, 8)
 
 
+class ContextCore(nn.Sequential):
+    """The core (conv, LeakyReLU, conv, sigmoid) plus the coarse context branch (module doc).
+    Indexing and iteration see the core's layers and the ``context`` branch (a Sequential)."""
+
+    def __init__(self, layers: list, in_channels: int, out_channels: int, pool: int,
+                 hidden: int) -> None:
+        super().__init__(*layers, nn.Sigmoid())
+        self.pool = pool
+        self.context = nn.Sequential(nn.Conv2d(in_channels, hidden, 3, padding=1),
+                                     nn.LeakyReLU(0.2), nn.Conv2d(hidden, out_channels, 1))
+        nn.init.zeros_(self.context[2].weight)
+        nn.init.zeros_(self.context[2].bias)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:  # type: ignore[override]
+        out = x
+        for i in range(len(self) - 1):
+            out = self[i](out)
+        # The mean over each cell's pixels inside the image, written as a ratio of two pools so
+        # that ONNX Runtime (which divides a ceil-mode edge cell by the whole kernel) agrees.
+        ones = torch.ones_like(x[:, :1])
+        pooled = (F.avg_pool2d(x, self.pool, ceil_mode=True)
+                  / F.avg_pool2d(ones, self.pool, ceil_mode=True))
+        coarse = self.context(pooled)
+        out = out + F.interpolate(coarse, size=out.shape[-2:], mode="bilinear",
+                                  align_corners=False)
+        return self[len(self) - 1](out)
+
+    def __len__(self) -> int:
+        return len(self._modules) - 1
+
+    def __iter__(self):
+        return iter([self[i] for i in range(len(self))] + [self.context])
+
+
+def output_convs(core: nn.Module) -> list:
+    """The convolutions whose output channels are the core's outputs (the last one, and the
+    context branch's last one when there is one)."""
+    convs = [m for m in core if isinstance(m, nn.Conv2d)][-1:]
+    if isinstance(core, ContextCore):
+        convs.append(core.context[2])
+    return convs
+
+
 class GuideNet(nn.Module):
     """conv(k) -> LeakyReLU(0.2) -> conv(k) -> sigmoid (or a single conv when ``hidden == 0``)
     at 1 / ``stride`` resolution, bilinearly upsampled back.
@@ -52,7 +103,8 @@ class GuideNet(nn.Module):
 
     def __init__(self, in_channels: int, hidden: int = 20, kernel: int = 5, levels: int = 3,
                  stride: int = 1, out_channels: Optional[int] = None,
-                 kernel2: Optional[int] = None) -> None:
+                 kernel2: Optional[int] = None, context: int = 0,
+                 context_hidden: int = 16) -> None:
         super().__init__()
         if in_channels < 1:
             raise ValueError(f"in_channels must be >= 1, got {in_channels}")
@@ -83,13 +135,22 @@ class GuideNet(nn.Module):
         self.levels = levels
         self.stride = stride
         self.out_channels = out_channels
+        if context < 0 or (context and context_hidden < 1):
+            raise ValueError(f"context must be >= 0 and context_hidden >= 1, got {context}, "
+                             f"{context_hidden}")
+        self.context = context
+        self.context_hidden = context_hidden
         pad = kernel // 2
         if hidden > 0:
             layers = [nn.Conv2d(in_channels, hidden, kernel, padding=pad), nn.LeakyReLU(0.2),
                       nn.Conv2d(hidden, out_channels, kernel2, padding=kernel2 // 2)]
         else:
             layers = [nn.Conv2d(in_channels, out_channels, kernel, padding=pad)]
-        self.core = nn.Sequential(*layers, nn.Sigmoid())
+        if context:
+            self.core: nn.Sequential = ContextCore(layers, in_channels, out_channels, context,
+                                                   context_hidden)
+        else:
+            self.core = nn.Sequential(*layers, nn.Sigmoid())
 
     def forward(self, features: torch.Tensor) -> torch.Tensor:
         s = self.stride
@@ -115,6 +176,9 @@ class GuideNet(nn.Module):
                   "out_channels": self.out_channels}
         if self.kernel2 != self.kernel:
             config["kernel2"] = self.kernel2
+        if self.context:
+            config["context"] = self.context
+            config["context_hidden"] = self.context_hidden
         return config
 
     def extra_repr(self) -> str:
@@ -147,5 +211,8 @@ def macs_per_pixel(model: GuideNet) -> float:
         macs = k1 * model.in_channels * model.hidden + k2 * model.hidden * model.out_channels
     else:
         macs = k1 * model.in_channels * model.out_channels
+    if model.context:
+        macs += (9 * model.in_channels * model.context_hidden
+                 + model.context_hidden * model.out_channels) / model.context ** 2
     s2 = model.stride * model.stride
     return macs // s2 if macs % s2 == 0 else macs / s2

@@ -201,6 +201,12 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="kernel size of GuideNet's second conv (default 0 = --kernel)")
     p.add_argument("--levels", type=parse_levels, default=((4, 4), (8, 8), (16, 16)),
                    help="grid levels ss:sr (default 4:4,8:8,16:16)")
+    p.add_argument("--context", type=int, default=0, metavar="P",
+                   help="GuideNet's coarse context branch: pool the network's input by P, "
+                        "conv 3x3 + LeakyReLU + conv 1x1 there, added before the sigmoid "
+                        "(ptv_training.guidenet; default 0 = none)")
+    p.add_argument("--context-hidden", type=int, default=16,
+                   help="hidden channels of the context branch (default 16)")
     p.add_argument("--stride", type=int, choices=STRIDES, default=1,
                    help="GuideNet guide stride: the network runs on s x s average-pooled "
                         "features, its output is upsampled bilinearly (default 1)")
@@ -340,7 +346,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
                          levels=len(args.levels), stride=args.stride,
                          out_channels=args.out_channels or None,
-                         kernel2=args.kernel2 or None)
+                         kernel2=args.kernel2 or None, context=args.context,
+                         context_hidden=args.context_hidden)
     adapter: Optional[ChannelAdapter] = None
     if args.init is not None:
         if not isinstance(model, GuideNet):
