@@ -29,11 +29,12 @@ Stride ``s`` in {1, 2, 4, 8}: the core runs at reduced resolution. ``forward(fea
 4. returns ``[N, out_channels, H, W]``.
 
 Context ``p`` > 0 (an ablation, ``train.py --context``): the core also pools its input to 1/p of
-its resolution (each coarse cell the mean of the pixels it covers inside the image), runs ``conv 3 x 3, in -> context_hidden, LeakyReLU(0.2), conv 1 x 1 ->
-out_channels`` there (the second convolution starts at zero) and adds that, bilinearly resized
-to the core's resolution, to the second convolution's output before the sigmoid: each region
-of about 3p x 3p network pixels shifts the guides and blend weights of its pixels (a fog seen
-as a whole can choose the coarse levels). It is part of the exported graph; the C++ side does
+its resolution (each coarse cell the mean of the pixels it covers inside the image), runs
+``conv 3 x 3, in -> context_hidden, LeakyReLU(0.2), conv 1 x 1 -> out_channels`` there (the
+second convolution starts at zero) and adds that, bilinearly resized to the core's resolution,
+to the second convolution's output before the sigmoid: each region of about 3p x 3p network
+pixels shifts the guides and blend weights of its pixels (a fog seen as a whole can choose the
+coarse levels). It is part of the exported graph; the C++ side does
 not change.
 
 With s == 1 and out_channels == 2L - 1 this is exactly the original network. The original
