@@ -462,8 +462,8 @@ def test_context_branch(tmp_path: Path) -> None:
     torch.manual_seed(3)
     fresh = GuideNet(10, hidden=8, kernel=3, stride=2, out_channels=8, context=4)
     plain = GuideNet(10, hidden=8, kernel=3, stride=2, out_channels=8)
-    plain.core.load_state_dict({k: v for k, v in fresh.core.state_dict().items()
-                                if not k.startswith("context.")})
+    plain.core.load_state_dict({k[len("layers."):]: v for k, v in fresh.core.state_dict().items()
+                                if k.startswith("layers.")})
     feats = torch.from_numpy(random_features(10, 19, 27, 5))[None]
     with torch.no_grad():
         assert torch.equal(fresh(feats), plain(feats))

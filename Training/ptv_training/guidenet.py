@@ -52,47 +52,38 @@ from torch import nn
 STRIDES = (1, 2, 4, 8)
 
 
-class ContextCore(nn.Sequential):
-    """The core (conv, LeakyReLU, conv, sigmoid) plus the coarse context branch (module doc).
-    Indexing and iteration see the core's layers and the ``context`` branch (a Sequential)."""
+class ContextCore(nn.Module):
+    """The core's convolutions (``layers``: conv, LeakyReLU, conv) plus the coarse ``context``
+    branch (module doc), summed before the sigmoid."""
 
     def __init__(self, layers: list, in_channels: int, out_channels: int, pool: int,
                  hidden: int) -> None:
-        super().__init__(*layers, nn.Sigmoid())
+        super().__init__()
         self.pool = pool
+        self.layers = nn.Sequential(*layers)
         self.context = nn.Sequential(nn.Conv2d(in_channels, hidden, 3, padding=1),
                                      nn.LeakyReLU(0.2), nn.Conv2d(hidden, out_channels, 1))
         nn.init.zeros_(self.context[2].weight)
         nn.init.zeros_(self.context[2].bias)
 
-    def forward(self, x: torch.Tensor) -> torch.Tensor:  # type: ignore[override]
-        out = x
-        for i in range(len(self) - 1):
-            out = self[i](out)
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
         # The mean over each cell's pixels inside the image, written as a ratio of two pools so
         # that ONNX Runtime (which divides a ceil-mode edge cell by the whole kernel) agrees.
         ones = torch.ones_like(x[:, :1])
         pooled = (F.avg_pool2d(x, self.pool, ceil_mode=True)
                   / F.avg_pool2d(ones, self.pool, ceil_mode=True))
-        coarse = self.context(pooled)
-        out = out + F.interpolate(coarse, size=out.shape[-2:], mode="bilinear",
+        out = self.layers(x)
+        out = out + F.interpolate(self.context(pooled), size=out.shape[-2:], mode="bilinear",
                                   align_corners=False)
-        return self[len(self) - 1](out)
-
-    def __len__(self) -> int:
-        return len(self._modules) - 1
-
-    def __iter__(self):
-        return iter([self[i] for i in range(len(self))] + [self.context])
+        return torch.sigmoid(out)
 
 
 def output_convs(core: nn.Module) -> list:
     """The convolutions whose output channels are the core's outputs (the last one, and the
     context branch's last one when there is one)."""
-    convs = [m for m in core if isinstance(m, nn.Conv2d)][-1:]
     if isinstance(core, ContextCore):
-        convs.append(core.context[2])
-    return convs
+        return [core.layers[-1], core.context[-1]]
+    return [m for m in core if isinstance(m, nn.Conv2d)][-1:]
 
 
 class GuideNet(nn.Module):
@@ -148,8 +139,8 @@ class GuideNet(nn.Module):
         else:
             layers = [nn.Conv2d(in_channels, out_channels, kernel, padding=pad)]
         if context:
-            self.core: nn.Sequential = ContextCore(layers, in_channels, out_channels, context,
-                                                   context_hidden)
+            self.core: nn.Module = ContextCore(layers, in_channels, out_channels, context,
+                                               context_hidden)
         else:
             self.core = nn.Sequential(*layers, nn.Sigmoid())
 

@@ -316,13 +316,16 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     command = " ".join(sys.argv if argv is None else ["train.py", *map(str, argv)])
 
+    def without_excluded(files: List[Path], folder: Path, views: dict) -> List[Path]:
+        dataset_of = {folder / r["file"]: r["view"]["dataset"] for r in views["views"]}
+        return [f for f in files if dataset_of[f] not in args.exclude]
+
     train_files, val_files, manifest = split_views(args.data, args.val_per_dataset)
     if args.exclude:
-        dataset_of = {args.data / r["file"]: r["view"]["dataset"] for r in manifest["views"]}
-        unknown = set(args.exclude) - set(dataset_of.values())
+        unknown = set(args.exclude) - {r["view"]["dataset"] for r in manifest["views"]}
         if unknown:
             raise SystemExit(f"--exclude: no views of {sorted(unknown)} in {args.data}")
-        train_files = [f for f in train_files if dataset_of[f] not in args.exclude]
+        train_files = without_excluded(train_files, args.data, manifest)
     if args.max_views:
         train_files = train_files[:args.max_views]
     for extra in args.extra_data:
@@ -330,9 +333,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if more_val:
             raise SystemExit(f"--extra-data {extra}: has validation views; generate it with "
                              "--val-views 0")
-        excluded = {extra / r["file"] for r in more_manifest["views"]
-                    if r["view"]["dataset"] in args.exclude}
-        train_files += [f for f in more if f not in excluded]
+        train_files += without_excluded(more, extra, more_manifest)
     progress = not args.no_progress
     train = load_samples(train_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
     val = load_samples(val_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
