@@ -117,8 +117,9 @@ def test_random_view_parameters_and_split(tmp_path: Path) -> None:
 
 def test_relative_mse_is_minimised_by_the_mean_of_noisy_targets() -> None:
     """The Noise2Noise property the 64-spp training targets rely on: with the denominator
-    detached, the gradient of the relative MSE vanishes at the targets' mean, while L1 on
-    tone-mapped images settles at their (tone-mapped) median."""
+    (the tone map's slope) detached, the gradient of the relative MSE (the tone-mapped MSE
+    linearised at the output) vanishes at the targets' mean, while L1 on tone-mapped images
+    settles at their (tone-mapped) median."""
     import torch
 
     from ptv_training.train import training_loss
@@ -126,6 +127,7 @@ def test_relative_mse_is_minimised_by_the_mean_of_noisy_targets() -> None:
     rng = np.random.default_rng(3)
     targets = torch.tensor(rng.exponential(0.5, (4096, 1, 1, 1)), dtype=torch.float32)
     for kind, expected in (("relmse", float(targets.mean())),
+                           ("tmse", float(targets.mean())),
                            ("l1", float(targets.median()))):
         x = torch.full((1, 1, 1, 1), 0.3, requires_grad=True)
         opt = torch.optim.Adam([x], lr=0.01)
@@ -135,6 +137,24 @@ def test_relative_mse_is_minimised_by_the_mean_of_noisy_targets() -> None:
             opt.step()
         assert float(x) == pytest.approx(expected, rel=0.03), kind
     assert float(targets.median()) < 0.8 * float(targets.mean())  # the two really differ
+
+
+@pytest.mark.parametrize("value", [0.005, 0.05, 0.3, 0.9, 2.0])
+def test_tmse_is_the_tone_mapped_squared_error_to_first_order(value: float) -> None:
+    """``--loss tmse`` of a small error is the squared error after the PSNR's tone map (whose
+    slope is taken at no less than TMSE_FLOOR and no more than 1: beyond 1 the tone map clips,
+    and the weight stays that of 1 so that such pixels are still pulled back)."""
+    import torch
+
+    from ptv_training.train import TMSE_FLOOR, training_loss
+
+    delta = 1e-3 * value
+    out = torch.full((1, 3, 2, 2), value)
+    got = float(training_loss(out, out + delta, "tmse"))
+    at = min(max(value, TMSE_FLOOR), 1.0)  # the tone map's slope there, central differences
+    h = 1e-4 * at
+    slope = ((at + h) ** (1 / 2.2) - (at - h) ** (1 / 2.2)) / (2 * h)
+    assert got == pytest.approx((slope * delta) ** 2, rel=1e-3)
 
 
 def test_aux_spp_takes_every_pass_but_radiance_from_the_longer_accumulation(

@@ -7,13 +7,18 @@ and 4-spp accumulated passes of every training view (``--spp``). Per step::
     features --GuideNet--> guides (x 255), blend weights --bilateral_grid.denoise--> output
     loss (--loss relmse, default) = mean((output - reference)^2 / (sg(output)^2 + 0.01))
     loss (--loss l1)              = L1(tonemap(output), tonemap(reference))
+    loss (--loss tmse)            = mean(((output - reference) * tonemap'(sg(y)))^2),
+                                    y = clip(output, 0.01, 1)
 
 with ``tonemap(x) = clip(max(0, x)^(1/2.2), 0, 1)`` and ``sg`` = no gradient. The relative MSE
 (Lehtinen et al. 2018, "Noise2Noise", their loss for Monte Carlo renderings) is minimised by the
 reference's expectation, so a noisy but unbiased reference (``generate.py``'s 64-spp training
 targets) trains as well as a converged one; an L1 loss on tone-mapped images would instead
-seek the noisy target's median, which is darker. Validation always reports the tone-mapped PSNR
-against the validation views' converged references.
+seek the noisy target's median, which is darker. ``tmse`` is the tone-mapped MSE (what the PSNR
+measures) linearised at the output: the weight carries no gradient, so its minimiser is still
+the reference's mean, while each pixel's error counts as much as it does after the tone map
+(relmse weighs bright pixels the tone map clips, and caps dark ones at 1 / 0.01). Validation
+always reports the tone-mapped PSNR against the validation views' converged references.
 
 GuideNet's ``--stride`` s runs the network on s x s average-pooled features and upsamples its
 output bilinearly (``guidenet.py``); ``--out-channels`` pads its output for ONNX Runtime.
@@ -60,7 +65,7 @@ from .data import (HISTORY_SPP, Sample, batch, load_samples, psnr,  # noqa: E402
                    split_views, tonemap, tonemap_np)
 from .export_onnx import levels_string, parse_levels  # noqa: E402
 from .features import resolve_channels  # noqa: E402
-from .guidenet import STRIDES, GuideNet, count_parameters  # noqa: E402
+from .guidenet import BLENDS, STRIDES, GuideNet, count_parameters  # noqa: E402
 from .guidenet import macs_per_pixel as guidenet_macs  # noqa: E402
 from .unet import UNet  # noqa: E402
 from .unet import macs_per_pixel as unet_macs  # noqa: E402
@@ -102,8 +107,17 @@ def cosine_rate(base: float, step: int, total: int, floor: float = 0.01) -> floa
     return base * (floor + (1.0 - floor) * 0.5 * (1.0 + math.cos(math.pi * t)))
 
 
+#: ``--loss tmse``: the tone map's slope is taken at no less than this radiance (its slope at 0
+#: is infinite); below it the weight is that of 0.01, about 31 times that at 1.
+TMSE_FLOOR = 0.01
+
+
 def training_loss(output: torch.Tensor, reference: torch.Tensor, kind: str) -> torch.Tensor:
-    """The training loss (module doc): ``"relmse"`` or ``"l1"``."""
+    """The training loss (module doc): ``"relmse"``, ``"tmse"`` or ``"l1"``."""
+    if kind == "tmse":
+        y = output.detach().clamp(TMSE_FLOOR, 1.0)
+        slope = y ** (1.0 / 2.2 - 1.0) / 2.2
+        return ((output - reference) * slope).pow(2).mean()
     if kind == "l1":
         return (tonemap(output) - tonemap(reference)).abs().mean()
     if kind == "relmse":
@@ -205,6 +219,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="GuideNet's coarse context branch: pool the network's input by P, "
                         "conv 3x3 + LeakyReLU + conv 1x1 there, added before the sigmoid "
                         "(ptv_training.guidenet; default 0 = none)")
+    p.add_argument("--blend", choices=BLENDS, default="sigmoid",
+                   help="GuideNet's blend weights: a sigmoid each, the coarsest level getting "
+                        "1 - their sum (default), or a softmax over the levels (needs "
+                        "--out-channels >= 2 * levels; guidenet.py)")
     p.add_argument("--context-hidden", type=int, default=16,
                    help="hidden channels of the context branch (default 16)")
     p.add_argument("--stride", type=int, choices=STRIDES, default=1,
@@ -216,9 +234,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--no-demodulate", dest="demodulate", action="store_false",
                    help="denoise radiance itself, not radiance / albedo (1-spp volume albedo is "
                         "noisy: re-modulating by it puts noise back)")
-    p.add_argument("--loss", choices=("relmse", "l1"), default="relmse",
+    p.add_argument("--loss", choices=("relmse", "tmse", "l1"), default="relmse",
                    help="relmse: relative MSE on linear radiance, right for noisy (Noise2Noise) "
-                        "references (default); l1: L1 on tone-mapped images")
+                        "references (default); tmse: MSE weighted by the tone map's slope at "
+                        "the output (also unbiased); l1: L1 on tone-mapped images")
     p.add_argument("--clamp", type=float, default=8.0,
                    help="outlier clamp of the grid (default 8, as the C++ default)")
     p.add_argument("--spp", default="1,2,4",
@@ -348,7 +367,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                          levels=len(args.levels), stride=args.stride,
                          out_channels=args.out_channels or None,
                          kernel2=args.kernel2 or None, context=args.context,
-                         context_hidden=args.context_hidden)
+                         context_hidden=args.context_hidden, blend=args.blend)
     adapter: Optional[ChannelAdapter] = None
     if args.init is not None:
         if not isinstance(model, GuideNet):
