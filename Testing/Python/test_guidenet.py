@@ -493,6 +493,44 @@ def test_context_branch(tmp_path: Path) -> None:
             assert float(np.abs(got - expected).max()) <= TOL, (levels, w, h)
 
 
+def test_softmax_blend(tmp_path: Path) -> None:
+    """--blend softmax: the weights after the guides are a softmax over the levels, the last one
+    in the first padding channel equal to 1 - the others (the grid's coarsest weight); the grid
+    blends the slices with those weights; ONNX Runtime runs it as torch; fewer levels, too few
+    channels and an unknown blend are refused."""
+    import onnxruntime as ort
+    from ptv_training import bilateral_grid as bg
+
+    net = random_net(10, 23, hidden=8, kernel=3, stride=2, out_channels=8, blend="softmax")
+    assert net.config()["blend"] == "softmax" and "blend" not in GuideNet(10).config()
+    feats = torch.from_numpy(random_features(10, 19, 27, 6))[None]
+    with torch.no_grad():
+        out = net(feats)
+    guides, weights = net.split(out)
+    assert guides.shape == (1, 3, 19, 27) and weights.shape == (1, 2, 19, 27)
+    # Bilinear upsampling keeps the sum: the coarsest weight is the grid's 1 - w1 - w2.
+    assert torch.allclose(out[:, 5], 1.0 - weights.sum(1), atol=1e-6)
+    assert float(out[:, 3:6].min()) >= 0.0
+    slices = [torch.rand(1, 3, 19, 27) for _ in range(3)]
+    expected = sum(slices[i] * out[:, 3 + i:4 + i] for i in range(3))
+    assert torch.allclose(bg.blend(slices, weights), expected, atol=1e-6)
+
+    path = export(net, tmp_path / "softmax.onnx", F.PAPER_10)
+    session = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+    for w, h in SIZES + [(1, 1), (5, 9)]:
+        low = torch.from_numpy(random_features(10, h, w, w + h))[None]
+        (got,) = session.run(None, {"features": low.numpy()})
+        with torch.no_grad():
+            assert float(np.abs(got - net.core(low).numpy()).max()) <= TOL, (w, h)
+    with pytest.raises(ValueError, match="sigmoid blend"):
+        export(net, tmp_path / "x.onnx", F.PAPER_10, use_levels=2)
+    export(net, tmp_path / "one.onnx", F.PAPER_10, use_levels=1)  # no weights: any blend
+    with pytest.raises(ValueError, match="out_channels must be >= 6"):
+        GuideNet(10, blend="softmax", out_channels=5)
+    with pytest.raises(ValueError, match="blend must be one of"):
+        GuideNet(10, blend="max")
+
+
 @pytest.mark.parametrize("w,h", SIZES)
 def test_onnxruntime_python_matches_torch(tmp_path: Path, w: int, h: int) -> None:
     import onnxruntime as ort
@@ -514,6 +552,8 @@ NETS = {
     "color3_single_conv_k3": (F.COLOR_ONLY, {"hidden": 0, "kernel": 3}),
     "paper10_h16_k5k3": (F.PAPER_10, {"hidden": 16, "kernel2": 3}),
     "paper10_h8_context4": (F.PAPER_10, {"hidden": 8, "kernel": 3, "context": 4}),
+    "paper10_h8_softmax": (F.PAPER_10, {"hidden": 8, "kernel": 3, "blend": "softmax",
+                                        "out_channels": 8}),
 }
 PROVIDERS = ("CPUExecutionProvider", "CUDAExecutionProvider")
 
@@ -578,7 +618,7 @@ def test_cxx_runner_matches_torch(ptv, tmp_path: Path, net_name: str) -> None:
         # The guides are the network's output times the guide scale 255: compared / 255 at TOL
         # (an absolute 255 * TOL on the guides themselves).
         diff = max(float(np.abs(guides / 255.0 - expected[:3]).max()),
-                   float(np.abs(weights - expected[3:]).max()))
+                   float(np.abs(weights - expected[3:5]).max()))
         print(f"vtkPTVDenoiser network ({net_name}, {provider}) vs torch {w}x{h}: "
               f"max |diff| = {diff:.3g}, {denoiser.GetLastGuideNetTime():.2f} ms")
         assert diff <= TOL

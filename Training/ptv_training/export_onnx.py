@@ -2,7 +2,8 @@
 (``vtkPTVDenoiser``, ONNX Runtime).
 
 Contract: opset 17; the file holds ``GuideNet.core`` (the conv stack + sigmoid, with its coarse
-context branch when the model has one), which runs at the reduced resolution
+context branch when the model has one, and a softmax over the blend logits with its softmax
+blend), which runs at the reduced resolution
 h = ceil(H / s), w = ceil(W / s) of a guide stride s; one input
 ``features`` ``[1, C, h, w]`` float32 (h, w dynamic; with s > 1 the caller average-pools the
 full-resolution features, edge replicated, as ``GuideNet.forward`` does); one output
@@ -43,7 +44,7 @@ import torch
 from pathtracedvolume.atomic import write_bytes
 
 from .features import resolve_channels
-from .guidenet import STRIDES, GuideNet, count_parameters, output_convs
+from .guidenet import BLENDS, STRIDES, GuideNet, count_parameters, output_convs
 
 FORMAT = "guidenet-v1"
 IMAGE_FORMAT = "denoiser-v1"  # image-to-image baseline: output = denoised radiance
@@ -102,6 +103,9 @@ def metadata(model: GuideNet, channels: Sequence[str],
     n = model.levels if use_levels is None else int(use_levels)
     if not 1 <= n <= model.levels:
         raise ValueError(f"use_levels must be 1..{model.levels}, got {use_levels}")
+    if 1 < n < model.levels and model.blend == "softmax":
+        raise ValueError(f"use_levels {n} of {model.levels} levels needs the sigmoid blend: a "
+                         "softmax blend's weights are a softmax over all the model's levels")
     levels = levels[:n]
     props = {
         "ptv.format": FORMAT,
@@ -237,6 +241,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--out-channels", type=int, default=0,
                         help="output channels incl. padding, >= 2 * levels - 1 "
                              "(default: 0 = 2 * levels - 1)")
+    parser.add_argument("--blend", choices=BLENDS, default="sigmoid",
+                        help="blend weights: a sigmoid each (default) or a softmax over the "
+                             "levels (needs out-channels >= 2 * levels)")
     parser.add_argument("--seed", type=int, default=0, help="torch seed (default: 0)")
     args = parser.parse_args(argv)
 
@@ -244,7 +251,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     torch.manual_seed(args.seed)
     model = GuideNet(len(channels), hidden=args.hidden, kernel=args.kernel,
                      levels=len(args.levels), stride=args.stride,
-                     out_channels=args.out_channels or None, kernel2=args.kernel2 or None)
+                     out_channels=args.out_channels or None, kernel2=args.kernel2 or None,
+                     blend=args.blend)
     path = export(model, args.output, channels, args.levels,
                   extra_metadata={"ptv.weights": f"random seed {args.seed}"})
     print(f"wrote {path} ({path.stat().st_size} bytes): {len(channels)} channels, "

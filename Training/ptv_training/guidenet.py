@@ -16,6 +16,13 @@ the number of channels the final conv produces; the channels beyond 2L - 1 are p
 by :meth:`GuideNet.split` (they exist because ONNX Runtime's fast NCHWc convolution wants channel
 counts that are multiples of 8).
 
+Blend ``"softmax"`` (an ablation, ``train.py --blend softmax``; needs ``out_channels >= 2L``): the
+channels after the guides are L logits, and the activation is a softmax over them instead of a
+sigmoid per weight. Its output keeps the layout above: channels L .. 2L - 2 are the first L - 1
+softmax weights and channel 2L - 1 (padding to the grid) the last one, which is exactly
+``1 - sum(weights)``, so the coarsest level gets a weight of its own, never negative, and the
+C++ grid does not change.
+
 Stride ``s`` in {1, 2, 4, 8}: the core runs at reduced resolution. ``forward(features)``, features
 ``[N, C, H, W]`` at full resolution:
 
@@ -50,6 +57,26 @@ import torch.nn.functional as F
 from torch import nn
 
 STRIDES = (1, 2, 4, 8)
+BLENDS = ("sigmoid", "softmax")
+
+
+class SoftmaxBlend(nn.Module):
+    """The core's last activation with ``blend="softmax"``: a sigmoid on every channel but the
+    ``levels`` blend logits after the ``levels`` guides, which get a softmax (module doc)."""
+
+    def __init__(self, levels: int) -> None:
+        super().__init__()
+        self.levels = levels
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        n = self.levels
+        return torch.cat([torch.sigmoid(x[:, :n]), torch.softmax(x[:, n:2 * n], dim=1),
+                          torch.sigmoid(x[:, 2 * n:])], dim=1)
+
+
+def activation(blend: str, levels: int) -> nn.Module:
+    """The core's last activation for ``blend`` (module doc)."""
+    return SoftmaxBlend(levels) if blend == "softmax" else nn.Sigmoid()
 
 
 class ContextCore(nn.Module):
@@ -57,9 +84,10 @@ class ContextCore(nn.Module):
     branch (module doc), summed before the sigmoid."""
 
     def __init__(self, layers: list, in_channels: int, out_channels: int, pool: int,
-                 hidden: int) -> None:
+                 hidden: int, last: nn.Module) -> None:
         super().__init__()
         self.pool = pool
+        self.last = last
         self.layers = nn.Sequential(*layers)
         self.context = nn.Sequential(nn.Conv2d(in_channels, hidden, 3, padding=1),
                                      nn.LeakyReLU(0.2), nn.Conv2d(hidden, out_channels, 1))
@@ -75,7 +103,7 @@ class ContextCore(nn.Module):
         out = self.layers(x)
         out = out + F.interpolate(self.context(pooled), size=out.shape[-2:], mode="bilinear",
                                   align_corners=False)
-        return torch.sigmoid(out)
+        return self.last(out)
 
 
 def output_convs(core: nn.Module) -> list:
@@ -84,6 +112,7 @@ def output_convs(core: nn.Module) -> list:
     if isinstance(core, ContextCore):
         return [core.layers[-1], core.context[-1]]
     return [m for m in core if isinstance(m, nn.Conv2d)][-1:]
+
 
 
 class GuideNet(nn.Module):
@@ -96,7 +125,7 @@ class GuideNet(nn.Module):
     def __init__(self, in_channels: int, hidden: int = 20, kernel: int = 5, levels: int = 3,
                  stride: int = 1, out_channels: Optional[int] = None,
                  kernel2: Optional[int] = None, context: int = 0,
-                 context_hidden: int = 16) -> None:
+                 context_hidden: int = 16, blend: str = "sigmoid") -> None:
         super().__init__()
         if in_channels < 1:
             raise ValueError(f"in_channels must be >= 1, got {in_channels}")
@@ -114,12 +143,14 @@ class GuideNet(nn.Module):
             raise ValueError(f"levels must be >= 1, got {levels}")
         if stride not in STRIDES:
             raise ValueError(f"stride must be one of {STRIDES}, got {stride}")
-        needed = 2 * levels - 1
+        if blend not in BLENDS:
+            raise ValueError(f"blend must be one of {BLENDS}, got {blend!r}")
+        needed = 2 * levels - 1 if blend == "sigmoid" else 2 * levels
         if out_channels is None:
             out_channels = needed
         if out_channels < needed:
-            raise ValueError(f"out_channels must be >= 2 * levels - 1 = {needed}, "
-                             f"got {out_channels}")
+            raise ValueError(f"out_channels must be >= {needed} ({levels} levels, {blend} "
+                             f"blend), got {out_channels}")
         self.in_channels = in_channels
         self.hidden = hidden
         self.kernel = kernel
@@ -127,6 +158,7 @@ class GuideNet(nn.Module):
         self.levels = levels
         self.stride = stride
         self.out_channels = out_channels
+        self.blend = blend
         if context < 0 or (context and context_hidden < 1):
             raise ValueError(f"context must be >= 0 and context_hidden >= 1, got {context}, "
                              f"{context_hidden}")
@@ -138,11 +170,12 @@ class GuideNet(nn.Module):
                       nn.Conv2d(hidden, out_channels, kernel2, padding=kernel2 // 2)]
         else:
             layers = [nn.Conv2d(in_channels, out_channels, kernel, padding=pad)]
+        last = activation(blend, levels)
         if context:
             self.core: nn.Module = ContextCore(layers, in_channels, out_channels, context,
-                                               context_hidden)
+                                               context_hidden, last)
         else:
-            self.core = nn.Sequential(*layers, nn.Sigmoid())
+            self.core = nn.Sequential(*layers, last)
 
     def forward(self, features: torch.Tensor) -> torch.Tensor:
         s = self.stride
@@ -171,6 +204,8 @@ class GuideNet(nn.Module):
         if self.context:
             config["context"] = self.context
             config["context_hidden"] = self.context_hidden
+        if self.blend != "sigmoid":
+            config["blend"] = self.blend
         return config
 
     def extra_repr(self) -> str:
@@ -178,6 +213,7 @@ class GuideNet(nn.Module):
                    else f"{self.kernel}/{self.kernel2}")
         return (f"in={self.in_channels}, hidden={self.hidden}, kernel={kernels}, "
                 f"levels={self.levels}, stride={self.stride}, out={self.out_channels}, "
+                + (f"blend={self.blend}, " if self.blend != "sigmoid" else "") +
                 f"params={count_parameters(self)}")
 
     def _load_from_state_dict(self, state_dict: Dict[str, Any], prefix: str,
