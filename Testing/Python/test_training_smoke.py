@@ -276,6 +276,14 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
                              "--out", str(probe)]) == 0
     probed = json.loads(probe.with_suffix(".json").read_text())["rows"]
     assert [r["view"] for r in probed] == [f.name for f in files]
+    assert {r["spp"] for r in probed} == {1}
+    # --spp: one row per view and input; the 1-spp rows are the default run's.
+    assert level_probe.main(["--run", str(tmp_path / "run"), "--views", *map(str, files),
+                             "--spp", "1", "4", "--out", str(probe) + "_spp"]) == 0
+    both = json.loads(Path(str(probe) + "_spp.json").read_text())["rows"]
+    assert [(r["view"], r["spp"]) for r in both] == [(f.name, s) for f in files for s in (1, 4)]
+    assert [r for r in both if r["spp"] == 1] == probed
+    assert all(r["blend"] != o["blend"] for r, o in zip(both[1::2], probed))
     assert all(np.isfinite(r[m]) for r in probed for m in level_probe.METHODS)
     ck = torch.load(tmp_path / "run" / "best.pt")
     net = GuideNet(**ck["config"])
@@ -290,4 +298,4 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
                                 ck["clamp"], ck["demodulate"], 1)
     assert probed[0]["level 1 alone"] == pytest.approx(
         psnr(alone[0].permute(1, 2, 0).numpy(), view["reference"]), abs=1e-4)
-    assert "| run | head | 2 |" in probe.with_suffix(".md").read_text()
+    assert "| run | head | 1 | 2 |" in probe.with_suffix(".md").read_text()

@@ -3,11 +3,12 @@
 The denoised image is ``s1 w1 + s2 w2 + s3 (1 - w1 - w2)`` (``bilateral_grid.blend``): the slices
 of the finest, middle and coarsest level, weighted by GuideNet's per-pixel blend weights. For
 every view given (training-view or held-out EXR files, ``exr_io.read_view``) and every run
-(``best.pt``), this denoises the 1-spp passes in torch (``train.run_model``, the C++ path's
-numbers to 1e-4) four ways: with the model's blend, and with the weights forced to take one
-level alone (the model's own guides). It also reports the blend weights the model chose on the
-pixels the view covers (reference above 0.02 in any channel): their medians, and the coarsest
-level's share ``1 - w1 - w2``.
+(``best.pt``), this denoises the 1-spp passes (``--spp``: also the 2- or 4-spp ones) in torch
+(``train.run_model``, the C++ path's numbers to 1e-4) four ways: with the model's blend, and
+with the weights forced to take one level alone (the model's own guides). It also reports the
+blend weights the model chose on the pixels the view covers (reference above 0.02 in any
+channel): their medians, and the coarsest level's share ``1 - w1 - w2``. A model with the
+``history`` channel sees the spp of a still accumulation (``data.sample_passes``).
 
 The question it answers: does the blend pick the level the view needs? Where one level alone
 beats the blend by a wide margin, the weights are what loses, not the grid. Groups: the dataset
@@ -38,6 +39,7 @@ if __package__ in (None, ""):  # run as a file
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
+from .data import sample_passes  # noqa: E402
 
 METHODS = ("blend", "level 1 alone", "level 2 alone", "level 3 alone")
 COVERED = 0.02  # reference value above which a pixel counts as covered
@@ -98,6 +100,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--views", type=Path, nargs="+", required=True,
                    help="view EXR files (training data or heldout.py's views)")
     p.add_argument("--out", type=Path, required=True, help="results path without suffix")
+    p.add_argument("--spp", type=int, nargs="+", default=[1], choices=(1, 2, 4),
+                   help="input accumulations to probe, each a group of its own (default 1)")
     p.add_argument("--threads", type=int, default=2, help="torch threads (default 2)")
     return p.parse_args(argv)
 
@@ -120,30 +124,33 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         model.load_state_dict(ck["model"])
         model.eval()
         for path, view in views:
-            row = probe_view(model, ck, view["inputs"][1], view["reference"])
-            rows.append({"run": run.name, "view": path.name, "group": group_of(view["view"]),
-                         **row})
+            for spp in args.spp:
+                row = probe_view(model, ck, sample_passes(view, path, spp), view["reference"])
+                rows.append({"run": run.name, "view": path.name, "spp": spp,
+                             "group": group_of(view["view"]), **row})
 
     lines = ["# Level probe: the learned blend against each grid level alone", "",
              f"Command: `python Training/ptv_training/level_probe.py "
              f"{' '.join(sys.argv[1:]) if argv is None else ' '.join(map(str, argv))}`. "
-             "1-spp inputs denoised in torch with the model's blend weights and with the "
+             "1-spp (or --spp) inputs denoised in torch with the model's blend weights and with "
+             "the "
              "weights forced to one level; mean PSNR (dB, tone-mapped, data_range 1) per group; "
              "the blend weights' medians on the covered pixels (reference > 0.02), 'coarse' = "
              "1 - w1 - w2.", "",
-             "| run | group | views | " + " | ".join(METHODS) +
+             "| run | group | spp | views | " + " | ".join(METHODS) +
              " | best level − blend | w1 | w2 | coarse |",
-             "|---|---|---|" + "---|" * (len(METHODS) + 4)]
+             "|---|---|---|---|" + "---|" * (len(METHODS) + 4)]
     summary: List[Dict[str, Any]] = []
     for run in dict.fromkeys(r["run"] for r in rows):
-        for group in sorted({r["group"] for r in rows if r["run"] == run}):
-            sel = [r for r in rows if r["run"] == run and r["group"] == group]
+        for group, spp in sorted({(r["group"], r["spp"]) for r in rows if r["run"] == run}):
+            sel = [r for r in rows
+                   if r["run"] == run and r["group"] == group and r["spp"] == spp]
             mean = {k: float(np.mean([r[k] for r in sel]))
                     for k in (*METHODS, "w1", "w2", "coarse")}
             best = max(mean[m] for m in METHODS[1:])
-            summary.append({"run": run, "group": group, "views": len(sel), **mean,
+            summary.append({"run": run, "group": group, "spp": spp, "views": len(sel), **mean,
                             "best_level_minus_blend": best - mean["blend"]})
-            lines.append(f"| {run} | {group} | {len(sel)} | " +
+            lines.append(f"| {run} | {group} | {spp} | {len(sel)} | " +
                          " | ".join(f"{mean[m]:.2f}" for m in METHODS) +
                          f" | {best - mean['blend']:+.2f} | {mean['w1']:.2f} | "
                          f"{mean['w2']:.2f} | {mean['coarse']:+.2f} |")
