@@ -81,7 +81,7 @@ def activation(blend: str, levels: int) -> nn.Module:
 
 class ContextCore(nn.Module):
     """The core's convolutions (``layers``: conv, LeakyReLU, conv) plus the coarse ``context``
-    branch (module doc), summed before the sigmoid."""
+    branch (module doc), summed before the ``last`` activation (a sigmoid, or SoftmaxBlend)."""
 
     def __init__(self, layers: list, in_channels: int, out_channels: int, pool: int,
                  hidden: int, last: nn.Module) -> None:
@@ -112,7 +112,6 @@ def output_convs(core: nn.Module) -> list:
     if isinstance(core, ContextCore):
         return [core.layers[-1], core.context[-1]]
     return [m for m in core if isinstance(m, nn.Conv2d)][-1:]
-
 
 
 class GuideNet(nn.Module):
