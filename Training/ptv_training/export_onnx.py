@@ -3,8 +3,8 @@
 
 Contract: opset 17; the file holds ``GuideNet.core`` (the conv stack + sigmoid, with its coarse
 context branch when the model has one, and a softmax over the blend logits with its softmax
-blend), which runs at the reduced resolution
-h = ceil(H / s), w = ceil(W / s) of a guide stride s; one input
+blend), which runs at the reduced resolution h = ceil(H / s), w = ceil(W / s) of a guide
+stride s; one input
 ``features`` ``[1, C, h, w]`` float32 (h, w dynamic; with s > 1 the caller average-pools the
 full-resolution features, edge replicated, as ``GuideNet.forward`` does); one output
 ``guides_weights`` ``[1, out_channels, h, w]`` (with s > 1 the caller upsamples it bilinearly to

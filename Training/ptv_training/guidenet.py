@@ -41,8 +41,7 @@ its resolution (each coarse cell the mean of the pixels it covers inside the ima
 second convolution starts at zero) and adds that, bilinearly resized to the core's resolution,
 to the second convolution's output before the sigmoid: each region of about 3p x 3p network
 pixels shifts the guides and blend weights of its pixels (a fog seen as a whole can choose the
-coarse levels). It is part of the exported graph; the C++ side does
-not change.
+coarse levels). It is part of the exported graph; the C++ side does not change.
 
 With s == 1 and out_channels == 2L - 1 this is exactly the original network. The original
 network is ``GuideNet(10)`` (5 x 5, 10 -> 20 -> 5): 7,525 parameters. Checkpoints written before
@@ -210,10 +209,10 @@ class GuideNet(nn.Module):
     def extra_repr(self) -> str:
         kernels = (f"{self.kernel}" if self.kernel2 == self.kernel
                    else f"{self.kernel}/{self.kernel2}")
+        blend = f"blend={self.blend}, " if self.blend != "sigmoid" else ""
         return (f"in={self.in_channels}, hidden={self.hidden}, kernel={kernels}, "
                 f"levels={self.levels}, stride={self.stride}, out={self.out_channels}, "
-                + (f"blend={self.blend}, " if self.blend != "sigmoid" else "") +
-                f"params={count_parameters(self)}")
+                f"{blend}params={count_parameters(self)}")
 
     def _load_from_state_dict(self, state_dict: Dict[str, Any], prefix: str,
                               *args: Any, **kwargs: Any) -> None:

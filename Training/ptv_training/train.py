@@ -59,6 +59,7 @@ if __package__ in (None, ""):  # run as a file: python Training/ptv_training/tra
     __package__ = "ptv_training"
 
 from pathtracedvolume.atomic import atomic_path, write_text  # noqa: E402
+from pathtracedvolume.metrics import GAMMA  # noqa: E402
 
 from .bilateral_grid import denoise  # noqa: E402
 from .data import (HISTORY_SPP, Sample, batch, load_samples, psnr,  # noqa: E402
@@ -116,7 +117,7 @@ def training_loss(output: torch.Tensor, reference: torch.Tensor, kind: str) -> t
     """The training loss (module doc): ``"relmse"``, ``"tmse"`` or ``"l1"``."""
     if kind == "tmse":
         y = output.detach().clamp(TMSE_FLOOR, 1.0)
-        slope = y ** (1.0 / 2.2 - 1.0) / 2.2
+        slope = GAMMA * y ** (GAMMA - 1.0)
         return ((output - reference) * slope).pow(2).mean()
     if kind == "l1":
         return (tonemap(output) - tonemap(reference)).abs().mean()
@@ -219,12 +220,12 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="GuideNet's coarse context branch: pool the network's input by P, "
                         "conv 3x3 + LeakyReLU + conv 1x1 there, added before the sigmoid "
                         "(ptv_training.guidenet; default 0 = none)")
+    p.add_argument("--context-hidden", type=int, default=16,
+                   help="hidden channels of the context branch (default 16)")
     p.add_argument("--blend", choices=BLENDS, default="sigmoid",
                    help="GuideNet's blend weights: a sigmoid each, the coarsest level getting "
                         "1 - their sum (default), or a softmax over the levels (needs "
                         "--out-channels >= 2 * levels; guidenet.py)")
-    p.add_argument("--context-hidden", type=int, default=16,
-                   help="hidden channels of the context branch (default 16)")
     p.add_argument("--stride", type=int, choices=STRIDES, default=1,
                    help="GuideNet guide stride: the network runs on s x s average-pooled "
                         "features, its output is upsampled bilinearly (default 1)")
