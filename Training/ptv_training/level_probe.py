@@ -133,9 +133,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
              f"Command: `python Training/ptv_training/level_probe.py "
              f"{' '.join(sys.argv[1:]) if argv is None else ' '.join(map(str, argv))}`. "
              "1-spp (or --spp) inputs denoised in torch with the model's blend weights and with "
-             "the weights forced to one level; mean PSNR (dB, tone-mapped, data_range 1) per group; "
-             "the blend weights' medians on the covered pixels (reference > 0.02), 'coarse' = "
-             "1 - w1 - w2.", "",
+             "the weights forced to one level; mean PSNR (dB, tone-mapped, data_range 1) per "
+             "group; the blend weights' medians on the covered pixels (reference > 0.02), "
+             "'coarse' = 1 - w1 - w2.", "",
              "| run | group | spp | views | " + " | ".join(METHODS) +
              " | best level − blend | w1 | w2 | coarse |",
              "|---|---|---|---|" + "---|" * (len(METHODS) + 4)]
