@@ -299,3 +299,23 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     assert probed[0]["level 1 alone"] == pytest.approx(
         psnr(alone[0].permute(1, 2, 0).numpy(), view["reference"]), abs=1e-4)
     assert "| run | head | 1 | 2 |" in probe.with_suffix(".md").read_text()
+
+    # guide_blur.py: the model's own guides reproduce level_probe's blend; blurring them changes
+    # the image; the error's low-frequency share is a fraction; a bad --blur is refused.
+    from ptv_training import guide_blur
+    blurred = tmp_path / "guide_blur"
+    assert guide_blur.main(["--run", str(tmp_path / "run"), "--views", *map(str, files),
+                            "--blur", "3:2", "1:1,2:2,3:4", "--split-sigma", "2",
+                            "--out", str(blurred)]) == 0
+    rows = json.loads(blurred.with_suffix(".json").read_text())["rows"]
+    assert [r["view"] for r in rows] == [f.name for f in files]
+    for row, base in zip(rows, probed):
+        assert row["model"] == pytest.approx(base["blend"], abs=1e-4)
+        assert row["L3 σ2"] != row["model"] and row["L1 σ1 L2 σ2 L3 σ4"] != row["model"]
+        assert 0.0 <= row["model low share"] <= 1.0 and 0.0 <= row["OIDN low share"] <= 1.0
+        assert np.isfinite(row["OIDN fast"]) and row["model mean ratio"] > 0
+    assert "| run | head | 2 |" in blurred.with_suffix(".md").read_text()
+    for bad in ("4:2", "3:0", "x"):
+        with pytest.raises(SystemExit):
+            guide_blur.main(["--run", str(tmp_path / "run"), "--views", str(files[0]),
+                             "--blur", bad, "--out", str(blurred)])
