@@ -41,8 +41,7 @@ if __package__ in (None, ""):  # run as a file
 
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
-from . import exr_io  # noqa: E402
-from .level_probe import group_of  # noqa: E402
+from .level_probe import group_of, load_run, read_views  # noqa: E402
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722], np.float32)
 
@@ -145,23 +144,15 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     import torch
 
-    from .guidenet import GuideNet
-
     args = parse_args(argv)
     torch.set_num_threads(max(1, args.threads))
-    missing = [str(p) for p in args.views if not p.is_file()]
-    if missing:
-        raise SystemExit(f"no such view file: {', '.join(missing)}")
     variants = [("model", {})] + [
         (" ".join(f"L{level + 1} σ{s:g}" for level, s in sorted(b.items())), b)
         for b in args.blur]
-    views = [(p, exr_io.read_view(p)) for p in args.views]
+    views = read_views(args.views)
     rows: List[Dict[str, Any]] = []
     for run in args.run:
-        ck = torch.load(run / "best.pt", weights_only=False)
-        model = GuideNet(**ck["config"])
-        model.load_state_dict(ck["model"])
-        model.eval()
+        model, ck = load_run(run)
         for path, view in views:
             row = probe_view(model, ck, view["inputs"][1], view["reference"], variants,
                              args.split_sigma)

@@ -27,7 +27,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -87,6 +87,27 @@ def probe_view(model, ck: Dict[str, Any], passes: Dict[str, np.ndarray],
     return row
 
 
+def load_run(run: Path) -> Tuple[Any, Dict[str, Any]]:
+    """(GuideNet in eval mode, checkpoint) of a training run's ``best.pt``."""
+    import torch
+
+    from .guidenet import GuideNet
+
+    ck = torch.load(run / "best.pt", weights_only=False)
+    model = GuideNet(**ck["config"])
+    model.load_state_dict(ck["model"])
+    model.eval()
+    return model, ck
+
+
+def read_views(paths: Sequence[Path]) -> List[Tuple[Path, Dict[str, Any]]]:
+    """(path, ``exr_io.read_view``) of each view file; exits naming any file that is missing."""
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        raise SystemExit(f"no such view file: {', '.join(missing)}")
+    return [(p, exr_io.read_view(p)) for p in paths]
+
+
 def group_of(view: Dict[str, Any]) -> str:
     """A held-out view's shape, else the view's dataset."""
     return f"held-out {view['heldout']}" if "heldout" in view else str(view["dataset"])
@@ -109,20 +130,12 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     import torch
 
-    from .guidenet import GuideNet
-
     args = parse_args(argv)
     torch.set_num_threads(max(1, args.threads))
-    missing = [str(p) for p in args.views if not p.is_file()]
-    if missing:
-        raise SystemExit(f"no such view file: {', '.join(missing)}")
-    views = [(p, exr_io.read_view(p)) for p in args.views]
+    views = read_views(args.views)
     rows: List[Dict[str, Any]] = []
     for run in args.run:
-        ck = torch.load(run / "best.pt", weights_only=False)
-        model = GuideNet(**ck["config"])
-        model.load_state_dict(ck["model"])
-        model.eval()
+        model, ck = load_run(run)
         for path, view in views:
             for spp in args.spp:
                 row = probe_view(model, ck, sample_passes(view, path, spp), view["reference"])
