@@ -41,9 +41,8 @@ if __package__ in (None, ""):  # run as a file
 
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
+from .bilateral_grid import LUMINANCE  # noqa: E402
 from .level_probe import group_of, load_run, read_views  # noqa: E402
-
-LUMINANCE = np.array([0.2126, 0.7152, 0.0722], np.float32)
 
 
 def parse_variant(text: str) -> Dict[int, float]:
@@ -70,13 +69,19 @@ def gaussian(image: np.ndarray, sigma: float) -> np.ndarray:
     return gaussian_filter(image, sigmas, mode="nearest")
 
 
-def error_split(image: np.ndarray, reference: np.ndarray, sigma: float) -> Tuple[float, float]:
-    """(PSNR, the low-frequency share of the squared error) of tone-mapped images."""
+def low_share(image: np.ndarray, reference: np.ndarray, sigma: float) -> float:
+    """The low-frequency share of the squared error of the tone-mapped images."""
     from pathtracedvolume.metrics import tonemap
     a, b = tonemap(image), tonemap(reference)
     total = float(np.mean((a - b) ** 2))
     low = float(np.mean((gaussian(a, sigma) - gaussian(b, sigma)) ** 2))
-    return 10.0 * np.log10(1.0 / max(total, 1e-12)), low / max(total, 1e-12)
+    return low / max(total, 1e-12)
+
+
+def mean_ratio(image: np.ndarray, reference: np.ndarray) -> float:
+    """Mean luminance of ``image`` over the reference's."""
+    weights = np.asarray(LUMINANCE, np.float32)
+    return float((image @ weights).mean() / max((reference @ weights).mean(), 1e-12))
 
 
 def probe_view(model, ck: Dict[str, Any], passes: Dict[str, np.ndarray], reference: np.ndarray,
@@ -98,24 +103,21 @@ def probe_view(model, ck: Dict[str, Any], passes: Dict[str, np.ndarray], referen
     row: Dict[str, float] = {}
     with torch.no_grad():
         guides, weights = model.split(model(features))
-        guides = guides * 255.0
+        guides = (guides * 255.0).numpy()
         for name, blur in variants:
-            g = guides.clone().numpy()
+            g = guides.copy()
             for level, s in blur.items():
-                if level >= len(levels):
-                    raise SystemExit(f"--blur level {level + 1}: the run has {len(levels)}")
                 g[0, level] = gaussian(g[0, level], s)
             out = denoise(radiance, albedo, torch.from_numpy(g), weights, levels=levels,
                           clamp=ck["clamp"])[0].permute(1, 2, 0).numpy()
             row[name] = psnr(out, reference)
             if name == "model":
-                _, row["model low share"] = error_split(out, reference, sigma)
-                row["model mean ratio"] = float((out @ LUMINANCE).mean()
-                                                / max((reference @ LUMINANCE).mean(), 1e-12))
+                row["model low share"] = low_share(out, reference, sigma)
+                row["model mean ratio"] = mean_ratio(out, reference)
     oidn = oidn_fast(passes)
-    row["OIDN fast"], row["OIDN low share"] = error_split(oidn, reference, sigma)
-    row["OIDN mean ratio"] = float((oidn @ LUMINANCE).mean()
-                                   / max((reference @ LUMINANCE).mean(), 1e-12))
+    row["OIDN fast"] = psnr(oidn, reference)
+    row["OIDN low share"] = low_share(oidn, reference, sigma)
+    row["OIDN mean ratio"] = mean_ratio(oidn, reference)
     return row
 
 
@@ -153,6 +155,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rows: List[Dict[str, Any]] = []
     for run in args.run:
         model, ck = load_run(run)
+        deepest = max((level for _, blur in variants for level in blur), default=0)
+        if deepest >= len(ck["levels"]):
+            raise SystemExit(f"--blur level {deepest + 1}: {run.name} has "
+                             f"{len(ck['levels'])} levels")
         for path, view in views:
             row = probe_view(model, ck, view["inputs"][1], view["reference"], variants,
                              args.split_sigma)
