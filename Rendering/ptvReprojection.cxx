@@ -6,6 +6,7 @@
 #include "vtkMatrix4x4.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -27,15 +28,16 @@ constexpr float kMissCoverage = 0.9f;   ///< a miss's history covers the surface
 /// without a fade the 4- and 8-degree orbits lost up to 1.3 dB on a frame (the head); 8 gained
 /// on every orbit and frame of the head and the stent (temporal_reuse.py, "History fade").
 constexpr double kHistoryAngle = 8.0;
+constexpr double kTurnPrecision = 1e-5; ///< radians; see HistoryFade
 
 /**
- * Factor on MaximumHistory for a view that turned by @a turn (the change of the central ray's
- * direction, ~radians): 1 - turn / (the chord of kHistoryAngle), at least 0. What the history
- * saw drifts with the turn: lights that follow the camera, highlights, content behind the first
- * event. PTV_HISTORY_ANGLE (degrees; 0 drops every history) replaces kHistoryAngle for studies
- * (Testing/Benchmarks/temporal_reuse.py); 180 or more: no fade.
+ * Factor on MaximumHistory for a view that turned by @a turn (radians: the rotation angle
+ * between the two views' frames, see ViewTurn): 1 - turn / kHistoryAngle, at least 0. What the
+ * history saw drifts with the turn: lights that follow the camera, highlights, content behind
+ * the first event. PTV_HISTORY_ANGLE (degrees; 0 drops every history) replaces kHistoryAngle for
+ * studies (Testing/Benchmarks/temporal_reuse.py); 180 or more: no fade.
  */
-float HistoryFade(float turn)
+float HistoryFade(double turn)
 {
   double angle = kHistoryAngle;
   if (const char* value = std::getenv("PTV_HISTORY_ANGLE"))
@@ -51,8 +53,11 @@ float HistoryFade(float turn)
   {
     return 1.f;
   }
-  const double chord = 2.0 * std::sin(0.5 * angle * 3.14159265358979323846 / 180.0);
-  return chord > 0.0 ? static_cast<float>(std::max(0.0, 1.0 - turn / chord)) : 0.f;
+  // A turn within kTurnPrecision of the limit is the limit: the float camera matrices leave
+  // an exact 8-degree orbit a fade of ~1e-4 otherwise, whose trace in the pixels the new frame
+  // missed the denoiser's tone-mapped colour input magnifies.
+  const double limit = angle * 3.14159265358979323846 / 180.0;
+  return turn < limit - kTurnPrecision ? static_cast<float>(1.0 - turn / limit) : 0.f;
 }
 
 inline Vec3 Load3(const float* b, std::size_t i)
@@ -84,6 +89,58 @@ struct RayPlanes
   Vec3 Far(float x, float y) const { return this->Far0 + this->FarX * x + this->FarY * y; }
 };
 
+/**
+ * The rotation angle (radians) from view @a a to view @a b: the angle of the rotation that takes
+ * one view's frame (the image's right and up directions on the far plane, and their cross
+ * product) to the other's. An orbit of 8 degrees turns it by 8 at any elevation (the central
+ * ray alone turns by less, the more the orbit's axis leans toward it) and a roll counts as well;
+ * a pan, a dolly or a zoom leaves it at 0. In double precision: the far plane's axes are small
+ * differences of large coordinates.
+ */
+double ViewTurn(const CameraRays& a, const CameraRays& b)
+{
+  using Axis = std::array<double, 3>;
+  auto axes = [](const CameraRays& c, Axis out[3])
+  {
+    const float* m = c.WorldFromNdc;
+    auto point = [m](double x, double y, int row)
+    { // z = 1: the far plane
+      const double w = m[12] * x + m[13] * y + m[14] + m[15];
+      return (m[4 * row] * x + m[4 * row + 1] * y + m[4 * row + 2] + m[4 * row + 3]) / w;
+    };
+    const double x0 = -1.0, x1 = 2.0 / c.Width - 1.0, y1 = 2.0 / c.Height - 1.0;
+    for (int r = 0; r < 3; ++r)
+    {
+      out[0][r] = point(x1, x0, r) - point(x0, x0, r);
+      out[1][r] = point(x0, y1, r) - point(x0, x0, r);
+    }
+    out[2] = { out[0][1] * out[1][2] - out[0][2] * out[1][1],
+      out[0][2] * out[1][0] - out[0][0] * out[1][2], out[0][0] * out[1][1] - out[0][1] * out[1][0] };
+    for (int k = 0; k < 3; ++k)
+    {
+      const double n = std::sqrt(out[k][0] * out[k][0] + out[k][1] * out[k][1] + out[k][2] * out[k][2]);
+      for (double& v : out[k])
+      {
+        v = n > 0.0 ? v / n : 0.0;
+      }
+    }
+  };
+  Axis p[3], q[3];
+  axes(a, p);
+  axes(b, q);
+  // R = Q P^T: trace = 1 + 2 cos(angle); the sum of the axes' cross products is its
+  // antisymmetric part, of length 2 sin(angle) (exact for small angles, where acos is not)
+  double trace = 0.0, v[3] = { 0.0, 0.0, 0.0 };
+  for (int k = 0; k < 3; ++k)
+  {
+    trace += p[k][0] * q[k][0] + p[k][1] * q[k][1] + p[k][2] * q[k][2];
+    v[0] += p[k][1] * q[k][2] - p[k][2] * q[k][1];
+    v[1] += p[k][2] * q[k][0] - p[k][0] * q[k][2];
+    v[2] += p[k][0] * q[k][1] - p[k][1] * q[k][0];
+  }
+  return std::atan2(0.5 * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 0.5 * (trace - 1.0));
+}
+
 /// Everything one frame's reprojection reads, and the per-pixel step (file comment, 1.-4.).
 struct Reprojector
 {
@@ -95,7 +152,7 @@ struct Reprojector
   float FootprintAt0 = 0.f, FootprintPerT = 0.f; ///< pixel size at distance t: At0 + PerT t
   float Step = 0.f;
   float Cap = 1.f;
-  float Turn = 0.f; ///< |change of the central ray's direction| (the turn in radians, nearly)
+  double Turn = 0.0; ///< the view's rotation since the previous frame (radians, ViewTurn)
   // previous accumulation
   const float* PrevRadiance;
   const float* PrevAlpha;
@@ -129,8 +186,7 @@ struct Reprojector
     const float cx = 0.5f * float(cur.Width), cy = 0.5f * float(cur.Height);
     const Vec3 d0 = Normalize(this->CurRays.Far(cx, cy) - this->CurRays.Near(cx, cy));
     const Vec3 d1 = Normalize(this->CurRays.Far(cx + 1, cy) - this->CurRays.Near(cx + 1, cy));
-    const float px = 0.5f * float(prev.Width), py = 0.5f * float(prev.Height);
-    this->Turn = Length(d0 - Normalize(this->PrevRays.Far(px, py) - this->PrevRays.Near(px, py)));
+    this->Turn = ViewTurn(prev, cur);
     this->FootprintAt0 = cur.Parallel ? Length(this->CurRays.NearX) : 0.f;
     this->FootprintPerT = cur.Parallel ? 0.f : Length(d1 - d0);
   }

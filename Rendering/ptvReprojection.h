@@ -21,9 +21,10 @@
  *     depth or place (silhouettes, occlusion) is dropped; none kept: no history;
  *  3. Radiance, Alpha and the frame count n are read bilinearly from the kept pixels
  *     (renormalised weights), n capped at MaximumHistory times the fade of the view's turn:
- *     1 - turn / 8 degrees (the turn: the change of the central ray's direction), 0 beyond.
+ *     1 - turn / 8 degrees, 0 beyond (the turn: the angle of the rotation between the two
+ *     views' frames, so an orbit turns by its step at any elevation and a roll counts too).
  *     What the history saw drifts as the view turns (lights that follow the camera,
- *     highlights, content behind the first event); a pan or a zoom keeps the full cap;
+ *     highlights, content behind the first event); a pan, a dolly or a zoom keeps the full cap;
  *  4. the new frame F joins the history H as the (n+1)-th frame: H + (F - H) / (n + 1), count
  *     n + 1. With n capped at M this is an exponential moving average of weight 1 / (M + 1).
  * The other passes (the denoiser's auxiliary features and the tests' inputs) restart with the

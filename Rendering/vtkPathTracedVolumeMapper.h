@@ -88,8 +88,8 @@ public:
    * of the head and the stent, 1 and 2 are equally close to the converged views and 2 is
    * steadier (tPSNR +0.1 dB), but after a transfer-function change 2 left frames up to 0.12 dB
    * below the same samples without history, 1 at most 0.02 (docs/temporal.md).
-   * The cap shrinks as the view turns between frames and reaches 0 at a turn of 8 degrees
-   * (a fast orbit starts afresh each frame; a pan or zoom keeps it). A still camera
+   * The cap shrinks as the view turns between frames (orbit or roll) and reaches 0 at a turn of
+   * 8 degrees (a fast orbit starts afresh each frame; a pan or zoom keeps it). A still camera
    * accumulates exactly as with it off. Off: every camera change starts again from one frame.
    */
   vtkSetMacro(TemporalReprojection, bool);

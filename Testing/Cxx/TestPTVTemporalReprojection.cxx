@@ -280,9 +280,7 @@ void TestTurnFade()
   s.Renderer->GetActiveCamera()->Azimuth(2.0);
   s.Frames(1);
   std::vector<float> history = s.Pass("HistoryLength");
-  const double expected = 1.0 +
-    4.0 * (1.0 - std::sin(vtkMath::RadiansFromDegrees(1.0)) /
-                   std::sin(vtkMath::RadiansFromDegrees(4.0)));
+  const double expected = 1.0 + 4.0 * (1.0 - 2.0 / 8.0);
   const float most = *std::max_element(history.begin(), history.end());
   Check(std::fabs(most - expected) < 1e-3,
     "a 2-degree turn caps the history at 4 x its fade (+1): " + Num(most) + " vs " +
@@ -295,6 +293,28 @@ void TestTurnFade()
   Check(*std::max_element(history.begin(), history.end()) == 1.0f &&
       s.Mapper->GetReprojectionReuse() == 0.0,
     "a 9-degree turn keeps no history");
+
+  // The fade counts the view's rotation, not the central ray's: seen from 40 degrees above, a
+  // 7.5-degree orbit turns the central ray by only ~5.7 degrees, but the view by 7.5.
+  s.Renderer->GetActiveCamera()->Elevation(40.0);
+  s.Frames(4);
+  s.Renderer->GetActiveCamera()->Azimuth(7.5);
+  s.Frames(1);
+  history = s.Pass("HistoryLength");
+  const double orbit = 1.0 + 4.0 * (1.0 - 7.5 / 8.0);
+  const float orbitMost = *std::max_element(history.begin(), history.end());
+  Check(std::fabs(orbitMost - orbit) < 1e-3,
+    "a 7.5-degree orbit at 40 degrees of elevation fades the history by its own 7.5 degrees: " +
+      Num(orbitMost) + " vs " + Num(orbit));
+
+  // A roll leaves the central ray where it was but turns everything around it (and the lights
+  // that follow the camera).
+  s.Frames(4);
+  s.Renderer->GetActiveCamera()->Roll(9.0);
+  s.Frames(1);
+  history = s.Pass("HistoryLength");
+  Check(*std::max_element(history.begin(), history.end()) == 1.0f,
+    "a 9-degree roll keeps no history");
 }
 
 void TestHistoryDropped()

@@ -284,8 +284,8 @@ check(history.max() > 1 and mapper().GetReprojectionReuse() > 0.5,
 display.MaximumHistory = 1
 camera.Azimuth(-1)
 Render(view)
-# The cap fades with the view's turn: 1 - turn / 8 degrees, as chords (ptvReprojection.h).
-capped = 1 + 1 - math.sin(math.radians(0.5)) / math.sin(math.radians(4))
+# The cap fades with the view's rotation: 1 - turn / 8 degrees (ptvReprojection.h).
+capped = 1 + 1 - 1.0 / 8.0
 check(abs(mapper_pass("HistoryLength").max() - capped) < 2e-3,
       "MaximumHistory=1 caps the history at 1 x the fade of a 1-degree turn, + 1 (%.4f, "
       "expected %.4f)" % (mapper_pass("HistoryLength").max(), capped))
