@@ -9,14 +9,15 @@ Every method runs in the same process on the same views, at --size² with the sh
   view's fresh 1-spp passes; and the converged orbit (--ref-spp per view, another seed). Mean
   temporal PSNR (consecutive tone-mapped frames) and PSNR against the converged view;
 * **stress**: the head orbit with the transfer function changed at its middle frame (the
-  history must be dropped), a fast orbit (--fast-step degrees per frame) and a pan that brings
-  unseen parts into view; every frame's PSNR with history against the same frame without
-  (the same run with every history dropped, PTV_HISTORY_ANGLE=0: the same random samples, so
-  the difference is the history's alone);
-* **history fade** (--fade-steps orbits of 12 views per orbit dataset): the view's turn at
-  which the history's weight reaches 0 (kHistoryAngle in Rendering/ptvReprojection.cxx, set
-  through PTV_HISTORY_ANGLE for each of --fade-angles), PSNR against the same run without
-  history;
+  history must be dropped), a fast orbit (--fast-step degrees per frame), a roll of the fixed
+  view (--roll-step degrees per frame about the view direction: the central ray stays, the
+  image turns) and a pan that brings unseen parts into view; every frame's PSNR with history
+  against the same frame without (the same run with every history dropped,
+  PTV_HISTORY_ANGLE=0: the same random samples, so the difference is the history's alone);
+* **history fade** (--fade-steps orbits of 12 views per orbit dataset, or rolls with
+  --fade-motion roll): the view's turn at which the history's weight reaches 0 (kHistoryAngle
+  in Rendering/ptvReprojection.cxx, set through PTV_HISTORY_ANGLE for each of --fade-angles),
+  PSNR against the same run without history;
 * **static flicker** (--datasets-static, --static-frames frames of the fixed benchmark view):
   the mapper's own still view (its accumulation), ours per fresh frame and OIDN fast per
   fresh frame (new seeds); per-pixel std of the tone-mapped frames;
@@ -59,6 +60,10 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--frames", type=int, default=36, help="views per orbit")
     p.add_argument("--step", type=float, default=2.0, help="orbit degrees per frame")
     p.add_argument("--fast-step", type=float, default=8.0, help="fast orbit degrees per frame")
+    p.add_argument("--roll-step", type=float, default=4.0, help="roll degrees per frame")
+    p.add_argument("--fade-motion", choices=["orbit", "roll"], default="orbit",
+                   help="the history fade study's camera paths: orbits or rolls of the fixed "
+                   "view (--fade-steps degrees per frame)")
     p.add_argument("--ref-spp", type=int, default=32, help="spp of each converged view")
     p.add_argument("--histories", type=int, nargs="+", default=[1, 2, 4, 8],
                    help="MaximumHistory values to run")
@@ -104,10 +109,13 @@ class Orbit:
             self.mapper.SetDenoiserModelFile(str(model))
         self.size = size
 
-    def view(self, azimuth: float, pan: float = 0.0) -> None:
-        """The benchmark view turned by ``azimuth`` and moved sideways by ``pan`` (fraction of
-        the image width)."""
+    def view(self, azimuth: float, pan: float = 0.0, roll: float = 0.0) -> None:
+        """The benchmark view turned by ``azimuth``, moved sideways by ``pan`` (fraction of
+        the image width) and rolled by ``roll`` degrees about its direction."""
         self.scene.orbit(AZIMUTH + azimuth, ELEVATION)
+        if roll:
+            self.scene.renderer.GetActiveCamera().Roll(roll)
+            self.scene.renderer.ResetCameraClippingRange()
         if pan:
             cam = self.scene.renderer.GetActiveCamera()
             cam.OrthogonalizeViewUp()
@@ -124,7 +132,8 @@ class Orbit:
     def references(self, path: Sequence[Dict[str, float]], spp: int, seed: int,
                    tf_change: Optional[int] = None) -> List[np.ndarray]:
         """Tone-mapped converged views (cached in .cache/temporal_reuse)."""
-        key = "_".join(f"{p['azimuth']:g}:{p.get('pan', 0):g}" for p in path)
+        key = "_".join(f"{p['azimuth']:g}:{p.get('pan', 0):g}"
+                       + (f":{p['roll']:g}" if p.get("roll") else "") for p in path)
         digest = hashlib.sha1(key.encode()).hexdigest()[:10]
         name = f"{self.dataset}_{self.size}_{spp}_{seed}_{tf_change}_{digest}"
         target = CACHE / f"{name}.npz"
@@ -134,7 +143,7 @@ class Orbit:
         self.mapper.DenoiseOff()  # the raw mean of spp frames
         for i, p in enumerate(tqdm(path, desc=f"converged {self.dataset}", leave=False)):
             self.set_tf(tf_change is not None and i >= tf_change)
-            self.view(p["azimuth"], p.get("pan", 0.0))
+            self.view(p["azimuth"], p.get("pan", 0.0), p.get("roll", 0.0))
             self.scene.render(seed + i, spp)
             refs.append(tonemap(self.scene.grab("Radiance")))
         self.set_tf(False)
@@ -180,7 +189,7 @@ class Orbit:
                                "reproject_ms": [], "trace_ms": [], "reuse": []}
         for i, p in enumerate(path):
             self.set_tf(tf_change is not None and i >= tf_change)
-            self.view(p["azimuth"], p.get("pan", 0.0))
+            self.view(p["azimuth"], p.get("pan", 0.0), p.get("roll", 0.0))
             if reseed:
                 m.SetSeed(seed + i)
             start = time.perf_counter()
@@ -214,6 +223,11 @@ def history_angle(degrees: Optional[float]):
 
 def orbit_path(frames: int, step: float) -> List[Dict[str, float]]:
     return [{"azimuth": i * step} for i in range(frames)]
+
+
+def roll_path(frames: int, step: float) -> List[Dict[str, float]]:
+    """The benchmark view rolled by ``step`` degrees per frame about its direction."""
+    return [{"azimuth": 0.0, "roll": i * step} for i in range(frames)]
 
 
 def pan_path(frames: int) -> List[Dict[str, float]]:
@@ -302,12 +316,13 @@ def gains_around(row: Dict[str, Any], alone: Dict[str, Any], change: int
 
 
 def fade_study(o: Orbit, a: argparse.Namespace) -> List[Dict[str, Any]]:
-    """Orbits of 12 views at each of a.fade_steps, MaximumHistory a.default_history, with each
-    of a.fade_angles: mean and worst per-frame PSNR difference to the same run without history
-    (frames 1..; frame 0 has none)."""
+    """Orbits (a.fade_motion "roll": rolls) of 12 views at each of a.fade_steps, MaximumHistory
+    a.default_history, with each of a.fade_angles: mean and worst per-frame PSNR difference to
+    the same run without history (frames 1..; frame 0 has none)."""
     out = []
     for step in a.fade_steps:
-        path = orbit_path(12 if not a.quick else 3, step)
+        frames = 12 if not a.quick else 3
+        path = roll_path(frames, step) if a.fade_motion == "roll" else orbit_path(frames, step)
         refs = o.references(path, a.ref_spp, 6000)
         with history_angle(0.0):
             alone = [psnr_vs(f, x) for f, x in
@@ -417,8 +432,8 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
                   f"{g['before']['shown_worst']:+.2f}), after it {g['after']['raw_mean']:+.2f}"
                   f" / {g['after']['shown_mean']:+.2f} dB (worst frame "
                   f"{g['after']['shown_worst']:+.2f}).")
-    md += ["", f"History fade (12-view orbits, M = {a.default_history}; PSNR against the "
-           "same run with every history dropped, frames 1-11; 180° = no fade):", "",
+    md += ["", f"History fade (12-view {a.fade_motion}s, M = {a.default_history}; PSNR against "
+           "the same run with every history dropped, frames 1-11; 180° = no fade):", "",
            "| dataset | ° per frame | fade angle | PSNR vs converged | gain (mean) | "
            "gain (worst frame) | mean tPSNR |", "|---|---|---|---|---|---|---|"]
     md += [f"| {f['dataset']} | {f['step']:g} | {f['angle']:g} | {f['psnr_mean']:.2f} | "
@@ -454,6 +469,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      tf_change=half, histories=[a.default_history], with_oidn=False)
             run_case(o, f"fast orbit ({a.fast_step}°/frame)",
                      orbit_path(max(a.frames // 3, 2), a.fast_step), a, rows, costs,
+                     histories=[a.default_history], with_oidn=False)
+            run_case(o, f"roll ({a.roll_step:g}°/frame)",
+                     roll_path(max(a.frames // 3, 2), a.roll_step), a, rows, costs,
                      histories=[a.default_history], with_oidn=False)
             run_case(o, "pan (2 % of the width per frame)", pan_path(max(a.frames // 3, 2)), a,
                      rows, costs, histories=[a.default_history], with_oidn=False)
