@@ -100,7 +100,10 @@ struct RayPlanes
 double ViewTurn(const CameraRays& a, const CameraRays& b)
 {
   using Axis = std::array<double, 3>;
-  auto axes = [](const CameraRays& c, Axis out[3])
+  auto cross = [](const Axis& u, const Axis& v) -> Axis
+  { return { u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0] }; };
+  auto dot = [](const Axis& u, const Axis& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+  auto axes = [&](const CameraRays& c, Axis out[3])
   {
     const float* m = c.WorldFromNdc;
     auto point = [m](double x, double y, int row)
@@ -114,11 +117,10 @@ double ViewTurn(const CameraRays& a, const CameraRays& b)
       out[0][r] = point(x1, x0, r) - point(x0, x0, r);
       out[1][r] = point(x0, y1, r) - point(x0, x0, r);
     }
-    out[2] = { out[0][1] * out[1][2] - out[0][2] * out[1][1],
-      out[0][2] * out[1][0] - out[0][0] * out[1][2], out[0][0] * out[1][1] - out[0][1] * out[1][0] };
+    out[2] = cross(out[0], out[1]);
     for (int k = 0; k < 3; ++k)
     {
-      const double n = std::sqrt(out[k][0] * out[k][0] + out[k][1] * out[k][1] + out[k][2] * out[k][2]);
+      const double n = std::sqrt(dot(out[k], out[k]));
       for (double& v : out[k])
       {
         v = n > 0.0 ? v / n : 0.0;
@@ -130,15 +132,18 @@ double ViewTurn(const CameraRays& a, const CameraRays& b)
   axes(b, q);
   // R = Q P^T: trace = 1 + 2 cos(angle); the sum of the axes' cross products is its
   // antisymmetric part, of length 2 sin(angle) (exact for small angles, where acos is not)
-  double trace = 0.0, v[3] = { 0.0, 0.0, 0.0 };
+  double trace = 0.0;
+  Axis v = { 0.0, 0.0, 0.0 };
   for (int k = 0; k < 3; ++k)
   {
-    trace += p[k][0] * q[k][0] + p[k][1] * q[k][1] + p[k][2] * q[k][2];
-    v[0] += p[k][1] * q[k][2] - p[k][2] * q[k][1];
-    v[1] += p[k][2] * q[k][0] - p[k][0] * q[k][2];
-    v[2] += p[k][0] * q[k][1] - p[k][1] * q[k][0];
+    trace += dot(p[k], q[k]);
+    const Axis c = cross(p[k], q[k]);
+    for (int r = 0; r < 3; ++r)
+    {
+      v[r] += c[r];
+    }
   }
-  return std::atan2(0.5 * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 0.5 * (trace - 1.0));
+  return std::atan2(0.5 * std::sqrt(dot(v, v)), 0.5 * (trace - 1.0));
 }
 
 /// Everything one frame's reprojection reads, and the per-pixel step (file comment, 1.-4.).

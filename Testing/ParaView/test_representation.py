@@ -35,7 +35,6 @@ the test, so the network is switched off (DenoiserUseNetwork=0); when the model 
 checked separately. Exits non-zero on any failed check; prints PASS at the end.
 """
 import json
-import math
 import os
 import shutil
 import sys
