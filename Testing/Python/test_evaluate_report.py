@@ -28,6 +28,7 @@ import pytest
 
 import pathtracedvolume.vtkPTVRendering  # noqa: F401
 import pyoidn  # noqa: F401
+from ptv_script_run import run_script
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "Testing" / "Benchmarks" / "evaluate_report.py"
@@ -40,12 +41,7 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
     base = os.environ.get("PTV_TEST_TEMP")
     out = (Path(base) if base else tmp_path_factory.mktemp("report")) / "evaluate_report_quick"
     shutil.rmtree(out, ignore_errors=True)
-    run = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--no-cache", "--out", str(out)],
-                         capture_output=True, text=True, timeout=600, cwd=ROOT)
-    log = (run.stdout + run.stderr)[-4000:]
-    assert run.returncode == 0, log
-    for pattern in ("ERROR: In", "Warning: In", "Traceback"):
-        assert pattern not in run.stdout + run.stderr, log
+    run_script(SCRIPT, ["--quick", "--no-cache", "--out", str(out)])
     return out
 
 

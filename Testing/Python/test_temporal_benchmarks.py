@@ -19,28 +19,21 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 import pathtracedvolume.vtkPTVRendering  # noqa: F401
 import pyoidn  # noqa: F401
+from ptv_script_run import run_script
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "Testing" / "Benchmarks"
 
 
-def run(script: str, args: list, out: Path) -> subprocess.CompletedProcess:
+def run(script: str, args: list, out: Path) -> None:
     shutil.rmtree(out, ignore_errors=True)
-    done = subprocess.run([sys.executable, str(BENCH / script), *args, "--out", str(out)],
-                          capture_output=True, text=True, timeout=600, cwd=ROOT)
-    log = (done.stdout + done.stderr)[-4000:]
-    assert done.returncode == 0, log
-    for pattern in ("ERROR: In", "Warning: In", "Traceback"):
-        assert pattern not in done.stdout + done.stderr, log
-    return done
+    run_script(BENCH / script, [*args, "--out", str(out)])
 
 
 @pytest.fixture(scope="module")
