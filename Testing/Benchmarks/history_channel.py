@@ -65,7 +65,7 @@ def trace(o: "tr.Orbit", path: Sequence[Dict[str, float]], history: int,
     out = []
     for i, p in enumerate(path):
         o.set_tf(tf_change is not None and i >= tf_change)
-        o.view(p["azimuth"], p.get("pan", 0.0))
+        o.place(p)
         o.scene.window.Render()
         passes = {n: o.scene.grab(n) for n in pb.PASSES}
         passes["HistoryLength"] = o.scene.grab("HistoryLength")

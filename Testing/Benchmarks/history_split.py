@@ -25,7 +25,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 from tqdm import tqdm
@@ -55,22 +55,26 @@ def parse_args(argv: Optional[List[str]] = None) -> argparse.Namespace:
 
 
 class Split:
-    """Two vtkPTVDenoisers: one predicts guides from one set of passes, the other runs the
-    grid on another set's radiance with those guides."""
+    """Two vtkPTVDenoisers: one runs the network on a set of passes (its denoised image, guides
+    and blend weights), the other runs the grid alone on another set's radiance with given
+    guides and weights."""
 
     def __init__(self) -> None:
-        from vtkmodules.vtkCommonDataModel import vtkImageData
-        self.image = vtkImageData
         self.net = pb.Ours()
         self.grid = pb.Ours()
 
-    def __call__(self, radiance_from: pb.Passes, guides_from: pb.Passes) -> np.ndarray:
-        self.net.set_passes(guides_from)
-        self.net.execute(copy=False)
-        guides, weights = self.image(), self.image()
+    def network(self, passes: pb.Passes) -> Tuple[np.ndarray, Any, Any]:
+        """The denoised image of ``passes`` and the guides and weights the network predicted."""
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        denoised = self.net(passes)
+        guides, weights = vtkImageData(), vtkImageData()
         self.net.den.GetGuides(guides)
         self.net.den.GetBlendWeights(weights)
-        self.grid.set_passes(radiance_from)
+        return denoised, guides, weights
+
+    def with_guides(self, passes: pb.Passes, guides: Any, weights: Any) -> np.ndarray:
+        """The grid on ``passes``' radiance with the given guides and weights."""
+        self.grid.set_passes(passes)
         self.grid.den.SetImage("Albedo", None)  # a model without demodulation: none given
         self.grid.den.SetImage("Guides", guides)
         self.grid.den.SetImage("BlendWeights", weights)
@@ -94,8 +98,11 @@ def run_case(o: tr.Orbit, tf_change: Optional[int], a: argparse.Namespace,
     psnr: Dict[str, List[float]] = {v: [] for v in VARIANTS}
     mapper: List[float] = []
     for i in tqdm(range(len(path)), desc=o.dataset, leave=False):
-        images = {"both": split.net(acc[i]), "grid input only": split(acc[i], fresh[i]),
-                  "guide only": split(fresh[i], acc[i]), "none": split.net(fresh[i])}
+        both, acc_guides, acc_weights = split.network(acc[i])
+        none, fresh_guides, fresh_weights = split.network(fresh[i])
+        images = {"both": both, "none": none,
+                  "grid input only": split.with_guides(acc[i], fresh_guides, fresh_weights),
+                  "guide only": split.with_guides(fresh[i], acc_guides, acc_weights)}
         for v in VARIANTS:
             psnr[v].append(tr.psnr_vs(tr.tonemap(images[v]), refs[i]))
         mapper.append(tr.psnr_vs(shown[i], refs[i]))

@@ -129,6 +129,10 @@ class Orbit:
             cam.SetFocalPoint(*(np.array(cam.GetFocalPoint()) + shift))
             self.scene.renderer.ResetCameraClippingRange()
 
+    def place(self, p: Dict[str, float]) -> None:
+        """The view of one entry of a camera path (``azimuth``, optional ``pan`` and ``roll``)."""
+        self.view(p["azimuth"], p.get("pan", 0.0), p.get("roll", 0.0))
+
     def references(self, path: Sequence[Dict[str, float]], spp: int, seed: int,
                    tf_change: Optional[int] = None) -> List[np.ndarray]:
         """Tone-mapped converged views (cached in .cache/temporal_reuse)."""
@@ -143,7 +147,7 @@ class Orbit:
         self.mapper.DenoiseOff()  # the raw mean of spp frames
         for i, p in enumerate(tqdm(path, desc=f"converged {self.dataset}", leave=False)):
             self.set_tf(tf_change is not None and i >= tf_change)
-            self.view(p["azimuth"], p.get("pan", 0.0), p.get("roll", 0.0))
+            self.place(p)
             self.scene.render(seed + i, spp)
             refs.append(tonemap(self.scene.grab("Radiance")))
         self.set_tf(False)
@@ -189,7 +193,7 @@ class Orbit:
                                "reproject_ms": [], "trace_ms": [], "reuse": []}
         for i, p in enumerate(path):
             self.set_tf(tf_change is not None and i >= tf_change)
-            self.view(p["azimuth"], p.get("pan", 0.0), p.get("roll", 0.0))
+            self.place(p)
             if reseed:
                 m.SetSeed(seed + i)
             start = time.perf_counter()
