@@ -30,6 +30,7 @@ const std::vector<KnownPass>& KnownPasses()
     { "ScatterDepth", { "scatter.Z" } },
     { "ScatterPosition", { "scatter.P.X", "scatter.P.Y", "scatter.P.Z" } },
     { "ScatterNormal", { "scatter.N.X", "scatter.N.Y", "scatter.N.Z" } },
+    { "Coverage", { "coverage.A" } },
     { "Denoised", { "denoised.R", "denoised.G", "denoised.B" } },
   };
   return known;

@@ -124,6 +124,17 @@ bool Denoiser::EnsureModel(const DenoiserSettings& settings)
 }
 
 //------------------------------------------------------------------------------
+bool Denoiser::ReadsChannel(const DenoiserSettings& settings, const std::string& channel)
+{
+  if (!settings.UseNetwork || !this->EnsureModel(settings))
+  {
+    return false;
+  }
+  const std::vector<std::string>& channels = this->Session.GetInputChannels();
+  return std::find(channels.begin(), channels.end(), channel) != channels.end();
+}
+
+//------------------------------------------------------------------------------
 bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
   int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done)
 {

@@ -82,6 +82,12 @@ public:
     float* alpha = nullptr);
 
 
+  /**
+   * Whether the model @a settings name (loaded here if it is not yet) reads the feature
+   * channel @a channel ("coverage": the tracer then marches for it). False with UseNetwork off
+   * or a model that cannot be used (the fixed guide reads none).
+   */
+  bool ReadsChannel(const DenoiserSettings& settings, const std::string& channel);
   /// Whether the last Run used GuideNet (else the fixed guide).
   bool GetNetworkActive() const { return this->NetworkActive; }
   /// e.g. "GuideNet <file> (CPUExecutionProvider), 3 levels" or "fixed guide: <why>".

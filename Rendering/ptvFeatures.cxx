@@ -91,6 +91,10 @@ bool Parse(const std::string& name, Channel& c)
   {
     return (c = { Kind::Alpha, PassAlpha, -1, 0 }), true;
   }
+  else if (name == "coverage") // the camera ray's opacity: clipped like alpha
+  {
+    return (c = { Kind::Alpha, PassCoverage, -1, 0 }), true;
+  }
   else if (name == "history")
   {
     return (c = { Kind::History, PassHistoryLength, -1, 0 }), true;

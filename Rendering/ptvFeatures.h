@@ -5,7 +5,8 @@
  *        parity test compares the two), optionally box-averaged to the network's resolution.
  *
  * Channel names ("color.r", "albedo.g", "normal.x", "depth", "position.y", "scatter_normal.z",
- * "scatter_depth", "scatter_position.x", "alpha") come from the model's ptv.input_channels.
+ * "scatter_depth", "scatter_position.x", "alpha", "coverage", "history") come from the model's
+ * ptv.input_channels.
  *
  * With a guide stride s > 1 (the model's ptv.guide_stride, Training/ptv_training/guidenet.py)
  * each output pixel (i, j) of the ceil(H / s) x ceil(W / s) planes is the mean of the features of

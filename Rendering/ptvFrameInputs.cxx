@@ -576,8 +576,10 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
   p.ExpectedCoverage = ExpectedCoverage();
-  const double coverage = static_cast<double>(p.ExpectedCoverage);
-  signature.AddExact(&coverage, 1);
+  p.CoverageMarch = settings.CoverageMarch ? 1 : 0;
+  const double coverage[2] = { static_cast<double>(p.ExpectedCoverage),
+    static_cast<double>(p.CoverageMarch) };
+  signature.AddExact(coverage, 2);
   // Reach 0 sees no occluder at all (the unoccluded environment); 1 or more: the whole volume.
   const double reach = settings.AmbientOcclusionReach;
   p.AmbientOcclusion = settings.AmbientOcclusion && reach > 0.0 ? 1 : 0;

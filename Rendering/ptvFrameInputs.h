@@ -43,6 +43,10 @@ struct FrameSettings
   bool UseBackgroundAsEnvironment = true;
   double EnvironmentIntensity = 1.0;
   bool EmptySpaceSkipping = true;
+  /// March each camera ray past its event for its opacity, the Coverage pass
+  /// (TraceParams::CoverageMarch): asked for, or set by the frame loop when the denoiser's
+  /// model reads it.
+  bool CoverageMarch = false;
   /// Clipping planes in world space, kept where n.x + d >= 0: (n.x, n.y, n.z, d), at most 6.
   int ClipPlaneCount = 0;
   double ClipPlanes[6][4] = {};

@@ -136,6 +136,13 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     this->LastNonFinite = nonFinite;
   }
 
+  // The Coverage pass: asked for (ComputeCoverage), or read by the denoiser's model (its
+  // "coverage" channel). Process 0, which denoises, decides for everyone.
+  request.Scene.CoverageMarch =
+    this->Parallel.Agree(request.Scene.CoverageMarch ||
+      (request.Denoise && this->Parallel.Shows() &&
+        this->Denoising.ReadsChannel(this->SettingsOf(request), "coverage"))) != 0;
+
   int width = 0, height = 0, x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
   FrameSignature signature;
@@ -299,6 +306,15 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
 }
 
 //------------------------------------------------------------------------------
+DenoiserSettings FrameLoop::SettingsOf(const FrameRequest& request) const
+{
+  DenoiserSettings settings = request.Denoiser;
+  settings.Threads = request.Threads;
+  settings.UseCuda = this->GetActiveBackend() == "CUDA"; // the grid follows the tracer
+  return settings;
+}
+
+//------------------------------------------------------------------------------
 bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& messages)
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
@@ -308,9 +324,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     return true; // nothing new to denoise
   }
-  DenoiserSettings settings = request.Denoiser;
-  settings.Threads = request.Threads;
-  settings.UseCuda = this->GetActiveBackend() == "CUDA"; // the grid follows the tracer
+  const DenoiserSettings settings = this->SettingsOf(request);
   PassBuffers& acc = this->Accumulated;
   const int width = acc.GetWidth();
   const int height = acc.GetHeight();

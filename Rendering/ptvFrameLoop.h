@@ -134,6 +134,8 @@ private:
   /// The traced frame joins the accumulation (reprojected history, running mean, counts).
   void AccumulateFrame(const FrameRequest& request);
   /// Denoise the accumulation if it changed since the last denoise; false on failure.
+  /// The denoiser's settings for @a request (its threads; the grid on the tracer's device).
+  DenoiserSettings SettingsOf(const FrameRequest& request) const;
   bool DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
   /// Denoise (when on) and combine; updates EstimatedQuality.
   void Combine(const FrameRequest& request, FrameMessages& messages);

@@ -17,6 +17,7 @@ const PassInfo kPasses[PassCount] = {
   { "ScatterDepth", 1 },
   { "ScatterPosition", 3 },
   { "ScatterNormal", 3 },
+  { "Coverage", 1 },
   { "Denoised", 3 },
   { "Guides", 3 },
   { "BlendWeights", 2 },

@@ -25,6 +25,7 @@ enum PassId
   PassScatterDepth,
   PassScatterPosition,
   PassScatterNormal,
+  PassCoverage,     ///< the camera ray's opacity (PixelSample::Coverage)
   PassDenoised,     ///< produced by the denoiser from the traced passes (not accumulated)
   PassGuides,       ///< its guides, one level per component (unused levels 0)
   PassBlendWeights, ///< its blend weights (unused 0)
@@ -81,6 +82,7 @@ PTV_HD PTV_INLINE void StoreSample(const TracedPassPlanes& planes, std::size_t p
   planes.Data[PassScatterDepth][pixel] = s.Depth2;
   StoreVec3(planes.Data[PassScatterPosition], pixel, s.Position2);
   StoreVec3(planes.Data[PassScatterNormal], pixel, s.Normal2);
+  planes.Data[PassCoverage][pixel] = s.Coverage;
 }
 
 /// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far

@@ -19,6 +19,7 @@
 #ifndef ptvRanks_h
 #define ptvRanks_h
 
+#include "ptvPassBuffers.h"
 #include "ptvPieces.h"
 
 #include "vtkSmartPointer.h"
@@ -100,7 +101,7 @@ private:
   int LocalRanks = 0; ///< processes on this host; 0: not learnt yet
   bool Distributed = false;
   std::vector<float> Sum;
-  std::vector<float> Gathered[9]; ///< distributed: every piece's traced passes (process 0)
+  std::vector<float> Gathered[kTracedPassCount]; ///< distributed: every piece's passes (process 0)
 };
 }
 

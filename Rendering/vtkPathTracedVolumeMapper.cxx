@@ -396,6 +396,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     scene.Seed = this->Seed;
     scene.SamplesPerFrame = this->SamplesPerFrame;
     scene.Scattering = this->Scattering;
+    scene.CoverageMarch = this->ComputeCoverage; // the frame loop adds its model's need
     scene.AmbientOcclusion = this->AmbientOcclusion;
     scene.AmbientOcclusionReach = this->AmbientOcclusionReach;
     scene.UseRendererLight = this->UseRendererLight;
@@ -500,6 +501,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumHistory: " << this->MaximumHistory << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
+  os << indent << "ComputeCoverage: " << this->ComputeCoverage << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";

@@ -23,7 +23,8 @@
  *
  * Passes (GetPassName): "Radiance" (premultiplied HDR RGB), "Alpha", "Albedo", "Depth",
  * "Position", "Normal" (first non-transparent sample), "ScatterDepth", "ScatterPosition",
- * "ScatterNormal" (the scattering event). Depth is the world distance from the eye; misses have
+ * "ScatterNormal" (the scattering event), "Coverage" (the camera ray's opacity: see
+ * ComputeCoverage; else Alpha). Depth is the world distance from the eye; misses have
  * depth = camera far distance, position 0, normal 0. With Denoise on, the denoiser (see
  * vtkPTVDenoiser) adds "Denoised" (shown by default), "Guides" and "BlendWeights", computed from
  * the accumulated passes after each traced frame, and "Converged" (the denoised image faded into
@@ -177,6 +178,21 @@ public:
   vtkSetMacro(Scattering, bool);
   vtkGetMacro(Scattering, bool);
   vtkBooleanMacro(Scattering, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Trace the "Coverage" pass, each camera ray's opacity (its expected Alpha, without the
+   * noise of the event's coin flip), by marching the ray on past its event until its
+   * transmittance is below 0.01. The denoiser turns this on by itself when its model reads the
+   * "coverage" channel (the shipped one does); set it to get the pass without denoising (the
+   * training data does). It costs trace time in translucent volumes and changes no other pass.
+   * Without it the Coverage pass is Alpha. Only with Scattering on (off: Coverage is Alpha).
+   * Default off.
+   */
+  vtkSetMacro(ComputeCoverage, bool);
+  vtkGetMacro(ComputeCoverage, bool);
+  vtkBooleanMacro(ComputeCoverage, bool);
   ///@}
 
   ///@{
@@ -469,6 +485,7 @@ protected:
   double StillTimeBudget = 0.0;
   unsigned int Seed = 0;
   bool Scattering = true;
+  bool ComputeCoverage = false;
   bool AmbientOcclusion = true;
   double AmbientOcclusionReach = 1.0;
   bool UseRendererLight = true;

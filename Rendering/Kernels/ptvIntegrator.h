@@ -51,6 +51,13 @@
  *     c L(event). Same expectations as step 4 without the coin flip between event and no
  *     event. Measured (Testing/Benchmarks/results/expected_coverage.md): not worth its cost on
  *     the datasets' presets, so off.
+ *  4c. CoverageMarch (with Scattering): after step 4's march stops at its event, a second
+ *     march carries T on over the samples after it (the same grid) until T <
+ *     kCoverageMarchCutoff or tEnd, and the ray's opacity 1 - T is stored as Coverage (a
+ *     noise-free feature for the denoiser: below 1 in a fog or a thin translucent layer, 1 on
+ *     an opaque surface; without an event step 4's march has reached tEnd, and its T is the
+ *     whole ray's). The second march draws no random numbers and comes after the shading, so
+ *     every other field is bit-identical to step 4's. Without it Coverage = Alpha.
  *  5. No event before tEnd: Radiance 0, Alpha 0 (premultiplied; the background is composited
  *     outside). Otherwise Alpha = 1, Depth2/Position2/Normal2 describe the event point x and
  *     Radiance = direct + ambient + env with c = colour at x:
@@ -208,10 +215,31 @@ PTV_HD PTV_INLINE PTV_NOINLINE void TraceCoverage(const TraceParams& p, Vec3 ori
   const Vec3 event = origin + dir * tEvent;
   const Vec3 n = chosenFirst ? out.Normal1 : ShadingNormal(p, eventIdx, dir);
   out.Alpha = coverage;
+  out.Coverage = coverage;
   out.Depth2 = tEvent;
   out.Position2 = event;
   out.Normal2 = n;
   out.Radiance = ShadeEvent(p, event, dir, eventColor, n, rng) * coverage;
+}
+
+/// Step 4c: the transmittance @a T of a camera ray whose march stopped at its event, sample
+/// @a k, carried on over the samples after it (the same grid) until below kCoverageMarchCutoff.
+PTV_HD PTV_INLINE PTV_NOINLINE float CarriedTransmittance(const TraceParams& p, Vec3 oIdx,
+  Vec3 dIdx, Vec3 invD, float tStart, float tEnd, float xi, float stepOverUnit, int k, float T)
+{
+  const float step = p.StepWorld;
+  March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
+    [&](int, float, Vec3 pIdx)
+    {
+      const float a = ClassifyStep(p, pIdx, stepOverUnit).Opacity;
+      if (a > 0.f)
+      {
+        T *= 1.f - a;
+      }
+      return T < kCoverageMarchCutoff;
+    },
+    k + 1);
+  return T;
 }
 
 /**
@@ -299,6 +327,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   if (p.Iso.Count > 0)
   {
     TraceIsoSurfaces(p, origin, dir, oIdx, dIdx, tStart, tEnd, xi, threshold, rng, out);
+    out.Coverage = out.Alpha;
     return out;
   }
   const float stepOverUnit = StepOverUnit(p, step);
@@ -307,8 +336,9 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
     TraceCoverage(p, origin, dir, oIdx, dIdx, invD, tStart, tEnd, xi, stepOverUnit, rng, out);
     return out;
   }
+  int eventStep = -1; // the event's sample (CoverageMarch carries the march on after it)
   March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
-    [&](int, float t, Vec3 pIdx)
+    [&](int k, float t, Vec3 pIdx)
     {
       const TransferSample ts = ClassifyStep(p, pIdx, stepOverUnit);
       const float a = ts.Opacity;
@@ -334,8 +364,17 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
       out.Position2 = event;
       out.Normal2 = n;
       out.Radiance = ShadeEvent(p, event, dir, ts.Color, n, rng);
+      eventStep = k;
       return true;
     });
+  out.Coverage = out.Alpha;
+  if (p.CoverageMarch && p.Scattering) // step 4c; without an event T is the whole ray's already
+  {
+    const bool carry = eventStep >= 0 && !(T < kCoverageMarchCutoff);
+    out.Coverage = 1.f - (carry ? CarriedTransmittance(p, oIdx, dIdx, invD, tStart, tEnd, xi,
+                                    stepOverUnit, eventStep, T)
+                                : T);
+  }
   return out;
 }
 

@@ -70,16 +70,17 @@ PTV_HD PTV_INLINE int FirstSampleAtOrAfter(
  * sample more or less before the next lookup costs nothing, so SampleNear's estimate will do).
  * Skipped samples all have zero opacity and the visits are the same samples, so the visits
  * that matter are the same with and without skipping. invD = Reciprocal(dIdx) and invStep =
- * 1 / step come from the caller, which computes them once (per ray, per event).
+ * 1 / step come from the caller, which computes them once (per ray, per event). @a kFirst > 0
+ * starts at sample kFirst of the same grid (a march carried on after the sample it stopped at).
  */
 template <class Visit>
 PTV_HD PTV_INLINE void March(const OccupancyGrid& occ, Vec3 oIdx, Vec3 dIdx, Vec3 invD,
-  float tStart, float tEnd, float xi, float step, float invStep, Visit&& visit)
+  float tStart, float tEnd, float xi, float step, float invStep, Visit&& visit, int kFirst = 0)
 {
   const int kLimit = MarchSampleLimit(tStart, tEnd, xi, invStep);
   const float invBrick = occ.Distance ? 1.f / static_cast<float>(occ.BrickSize) : 0.f;
   const int octant = DirectionOctant(dIdx);
-  int k = 0;
+  int k = kFirst;
   while (k < kLimit)
   {
     float t = MarchSampleT(tStart, xi, step, k);

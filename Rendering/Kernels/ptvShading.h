@@ -293,6 +293,7 @@ PTV_HD PTV_INLINE PixelSample MissSample(float farDistance)
   s.Depth2 = farDistance;
   s.Position2 = zero;
   s.Normal2 = zero;
+  s.Coverage = 0.f;
   return s;
 }
 

@@ -52,6 +52,12 @@ struct TraceParams
   /// event among its samples in proportion to their share of it (ptvIntegrator.h, step 4b);
   /// 0 (default): the event decides Alpha, 0 or 1. Ignored with CameraBoxed.
   int ExpectedCoverage;
+  /// 1: every camera ray's march goes on past its event (until its transmittance is below
+  /// kCoverageMarchCutoff or the ray ends) for the ray's opacity, the Coverage field
+  /// (ptvIntegrator.h, step 4c); every other field is unchanged. Set when the denoiser's model
+  /// reads the "coverage" channel. 0: Coverage is the sample's Alpha. Ignored without
+  /// Scattering and with isosurfaces (Coverage = Alpha).
+  int CoverageMarch;
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
   /// With AmbientOcclusion: the farthest an environment ray looks for occluders (world
   /// distance; what lies beyond does not occlude); <= 0: to the volume's exit.
@@ -81,6 +87,10 @@ constexpr float kHitFraction = 0.999f;
 /// would add less than this to its opacity (and its share of the radiance).
 constexpr float kCoverageCutoff = 1e-4f;
 
+/// CoverageMarch: a camera ray stops once its transmittance is below this after its event. The
+/// Coverage it stores is then above 0.99, which the denoiser reads as opaque.
+constexpr float kCoverageMarchCutoff = 1e-2f;
+
 struct PixelSample
 {
   Vec3 Radiance; ///< premultiplied radiance (0 without an event)
@@ -92,6 +102,9 @@ struct PixelSample
   float Depth2; ///< sampled (scattering) event: ray distance
   Vec3 Position2;
   Vec3 Normal2;
+  /// The camera ray's opacity 1 - T over its whole march, the expectation of Alpha (noise-free:
+  /// it depends on the pixel's jitter only), with TraceParams::CoverageMarch; else Alpha.
+  float Coverage;
 };
 
 /// acc += s, field by field (averaging several samples of a pixel: CPU and CUDA drivers).
@@ -106,6 +119,7 @@ PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
   acc.Depth2 += s.Depth2;
   acc.Position2 = acc.Position2 + s.Position2;
   acc.Normal2 = acc.Normal2 + s.Normal2;
+  acc.Coverage += s.Coverage;
 }
 
 /**
@@ -114,8 +128,9 @@ PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
  * TraceParams::PieceStream): the sample of the ray through both. An event in the back piece
  * counts only where the front one has none (Alpha 0), and the event's fields (Radiance, Alpha,
  * Depth2, Position2, Normal2) come from the piece that holds it; the first-hit fields (Albedo,
- * Depth1, Position1, Normal1) from the nearest piece with a first hit. Misses store @a far as
- * their depths (Camera.FarDistance). Single samples only: for means of several samples the
+ * Depth1, Position1, Normal1) from the nearest piece with a first hit; Coverage is the front's
+ * opacity over the back's (exact for the expected opacities of one camera ray). Misses store
+ * @a far as their depths (Camera.FarDistance). Single samples only: for means of several samples the
  * product of the front's coverage and the back's radiance is not the mean of the products.
  */
 PTV_HD PTV_INLINE PixelSample OverSample(const PixelSample& front, const PixelSample& back,
@@ -133,6 +148,7 @@ PTV_HD PTV_INLINE PixelSample OverSample(const PixelSample& front, const PixelSa
   o.Depth1 = front.Depth1 + (back.Depth1 - far) * keep1;
   o.Position1 = front.Position1 + back.Position1 * keep1;
   o.Normal1 = front.Normal1 + back.Normal1 * keep1;
+  o.Coverage = front.Coverage + back.Coverage * (1.f - front.Coverage); // the opacities' over
   return o;
 }
 
@@ -148,6 +164,7 @@ PTV_HD PTV_INLINE void ScaleSample(PixelSample& acc, float w)
   acc.Depth2 *= w;
   acc.Position2 = acc.Position2 * w;
   acc.Normal2 = acc.Normal2 * w;
+  acc.Coverage *= w;
 }
 }
 

@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -283,6 +284,57 @@ bool SlabExpectedCoverage()
   {
     std::printf("  FAILED: ExpectedCoverage does not lower the radiance's variance\n");
     ok = false;
+  }
+  return ok;
+}
+
+/**
+ * CoverageMarch (ptvIntegrator.h, step 4c) on the slab: Coverage is the slab's opacity
+ * 1 - exp(-sigma L) on every pixel (0.63, below the march's cutoff, so every ray crosses the
+ * whole slab; float rounding of the 50 products: 1e-5), and every other field is bit-identical
+ * to the default's (the march past the event draws no random numbers). Without it, Coverage is
+ * the sample's Alpha; so it is with Scattering off (first-hit events).
+ */
+bool SlabCoverageMarch()
+{
+  Slab s;
+  MakeDirectLightSlab(s);
+  ptv::TraceParams march = s.P;
+  march.CoverageMarch = 1;
+  ptv::TraceParams firstHit = march;
+  firstHit.Scattering = 0;
+  const double pAlpha = 1.0 - std::exp(-kSigma * kL);
+  double coverageMin = 1.0, coverageMax = 0.0;
+  long differ = 0, notAlpha = 0;
+  for (int f = 0; f < kFrames; ++f)
+  {
+    s.P.Frame = march.Frame = firstHit.Frame = static_cast<uint32_t>(f + 4000);
+    for (int y = 0; y < kImage; ++y)
+    {
+      for (int x = 0; x < kImage; ++x)
+      {
+        const ptv::PixelSample m = ptv::TracePixel(march, x, y);
+        const ptv::PixelSample d = ptv::TracePixel(s.P, x, y);
+        const ptv::PixelSample h = ptv::TracePixel(firstHit, x, y);
+        coverageMin = std::min(coverageMin, static_cast<double>(m.Coverage));
+        coverageMax = std::max(coverageMax, static_cast<double>(m.Coverage));
+        const float a[] = { m.Radiance.x, m.Radiance.y, m.Radiance.z, m.Alpha, m.Albedo.x,
+          m.Depth1, m.Position1.z, m.Normal1.z, m.Depth2, m.Position2.z, m.Normal2.z };
+        const float b[] = { d.Radiance.x, d.Radiance.y, d.Radiance.z, d.Alpha, d.Albedo.x,
+          d.Depth1, d.Position1.z, d.Normal1.z, d.Depth2, d.Position2.z, d.Normal2.z };
+        differ += std::memcmp(a, b, sizeof(a)) != 0 ? 1 : 0;
+        notAlpha += (d.Coverage != d.Alpha || h.Coverage != h.Alpha) ? 1 : 0;
+      }
+    }
+  }
+  std::printf("slab, CoverageMarch: Coverage expected %.6f measured %.6f .. %.6f; samples "
+              "differing from the default's %ld; without the march, Coverage != Alpha %ld\n",
+    pAlpha, coverageMin, coverageMax, differ, notAlpha);
+  const bool ok = std::fabs(coverageMin - pAlpha) < 1e-5 &&
+    std::fabs(coverageMax - pAlpha) < 1e-5 && differ == 0 && notAlpha == 0;
+  if (!ok)
+  {
+    std::printf("  FAILED: CoverageMarch\n");
   }
   return ok;
 }
@@ -575,6 +627,7 @@ int TestPTVKernelSlab(int, char*[])
   ok = SlabEnvironment() && ok;
   ok = SlabDirectLight(true) && ok;
   ok = SlabExpectedCoverage() && ok;
+  ok = SlabCoverageMarch() && ok;
   ok = StepTablesChangeNothing() && ok;
   std::printf(ok ? "TestPTVKernelSlab passed\n" : "TestPTVKernelSlab FAILED\n");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;

@@ -147,9 +147,9 @@ void TestPasses()
   vtkNew<vtkImageData> image;
   Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
   s.Window->Render();
-  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 15,
-    "9 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha");
-  for (int i = 0; i < 9; ++i)
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 16,
+    "10 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha");
+  for (int i = 0; i < 10; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);
     Check(s.Mapper->GetPass(name, image), std::string("pass ") + name);

@@ -31,7 +31,7 @@ from ptv_training.guidenet import GuideNet  # noqa: E402
 W, H = 61, 43  # odd, not multiples of any grid step
 LEVELS = ((4, 4), (8, 8), (16, 16))
 TRACED = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
-          "ScatterDepth", "ScatterPosition", "ScatterNormal"]
+          "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage"]
 
 
 def render_passes(frames: int = 1) -> dict[str, np.ndarray]:
@@ -54,6 +54,7 @@ def render_passes(frames: int = 1) -> dict[str, np.ndarray]:
     mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.DenoiseOff()
+    mapper.ComputeCoverageOn()  # the camera rays' opacity, as a model with "coverage" needs
     mapper.SetMaximumAccumulatedFrames(frames)
     volume = vtkVolume()
     volume.SetMapper(mapper)
@@ -220,6 +221,84 @@ def test_history_channel_matches_python(passes, tmp_path, portable) -> None:
     ok, out, den, messages = cxx_denoise(passes, str(path), PortableKernels=portable)
     assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
     assert np.array_equal(out, outs[0])
+
+
+@pytest.mark.parametrize("portable", [False, True], ids=["dispatched", "portable"])
+def test_coverage_channel_matches_python(passes, tmp_path, portable) -> None:
+    """A model with the ``coverage`` channel (clip(Coverage, 0, 1), features.py) reads the
+    Coverage image as torch does, values outside [0, 1] included, within the parity tolerance of
+    test_cxx_matches_python_pipeline; the channel reaches the output (the traced coverage
+    denoises otherwise than Alpha in its place); without a Coverage image the denoiser refuses
+    the frame and names the pass."""
+    torch.manual_seed(11)
+    channels = features.PAPER_10 + ["coverage"]
+    net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8).eval()
+    path = export(net, tmp_path / "coverage.onnx", channels, levels=LEVELS)
+    coverage = passes["Coverage"][..., 0]
+    assert ((coverage > 0.05) & (coverage < 0.95)).mean() > 0.05  # the scene is translucent
+    odd = dict(passes, Coverage=passes["Coverage"].copy())
+    odd["Coverage"][0, 0], odd["Coverage"][0, 1] = -0.5, 1.5
+    plane = features.build_features(odd, ["coverage"])[0]
+    assert plane[0, 0] == 0.0 and plane[0, 1] == 1.0
+    outs = []
+    for given in (odd, dict(passes, Coverage=passes["Alpha"])):
+        ok, out, den, messages = cxx_denoise(given, str(path), PortableKernels=portable)
+        assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+        ref = torch_pipeline(given, net, channels)
+        span = float(ref.max() - ref.min())
+        err = float(np.abs(out - ref).max())
+        assert span > 0 and err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
+        outs.append(out)
+    assert not np.array_equal(outs[0], outs[1])
+    from ptv_vtk_messages import observe
+
+    den = rendering.vtkPTVDenoiser()
+    seen = observe(den)
+    den.SetModelFile(str(path))
+    for name, a in passes.items():
+        if name != "Coverage":
+            den.SetImage(name, to_image(name, a))
+    assert not den.Execute()
+    assert any("ErrorEvent" in m and "'Coverage'" in m for m in seen), seen
+
+
+def test_mapper_coverage_pass(tmp_path) -> None:
+    """The mapper's Coverage pass: Alpha unless the march is on; with ComputeCoverage each
+    camera ray's opacity -- fractional in the translucent wavelet, every other pass bit for bit
+    as without it, and its mean that of Alpha over 64 frames (its expectation; within 5
+    standard errors of the gap); with Denoise and a model that reads "coverage" the mapper
+    marches by itself (ComputeCoverage off), with a model that does not it does not."""
+    from ptv_wavelet_scene import get_pass, wavelet_scene
+
+    size = (40, 30)
+
+    def run(compute: bool, model: Path | None = None, frames: int = 1) -> dict:
+        window, mapper, keep = wavelet_scene(size, opacity=0.15, seed=5,
+                                             denoise=model is not None)
+        mapper.SetComputeCoverage(compute)
+        if model is not None:
+            mapper.SetDenoiserModelFile(str(model))
+        mapper.SetMaximumAccumulatedFrames(frames)
+        for _ in range(frames):
+            window.Render()
+        return {name: get_pass(mapper, name, size) for name in TRACED}
+
+    off, on = run(False), run(True)
+    assert np.array_equal(off["Coverage"], off["Alpha"])
+    c = on["Coverage"]
+    assert ((c > 0.05) & (c < 0.95)).mean() > 0.1 and c.min() >= 0 and c.max() <= 1
+    assert all(np.array_equal(off[name], on[name]) for name in TRACED if name != "Coverage")
+    many = run(True, frames=64)
+    gap = many["Alpha"] - many["Coverage"]  # per pixel: mean of 64 coin flips minus their p
+    se = np.sqrt(np.sum(many["Coverage"] * (1 - many["Coverage"])) / 64) / gap.size
+    assert abs(gap.mean()) < 5 * se + 1e-6, (gap.mean(), se)
+    torch.manual_seed(2)
+    for channels, marched in ((features.PAPER_10 + ["coverage"], True),
+                              (features.PAPER_10, False)):
+        net = GuideNet(len(channels), hidden=8, kernel=3, levels=3, stride=2, out_channels=8)
+        path = export(net.eval(), tmp_path / f"c{len(channels)}.onnx", channels, levels=LEVELS)
+        denoised = run(False, path)
+        assert np.array_equal(denoised["Coverage"], on["Coverage"] if marched else on["Alpha"])
 
 
 def test_model_default_levels(passes, tmp_path) -> None:
