@@ -270,6 +270,9 @@ def synthetic_passes(h: int, w: int, seed: int, far: float = 10.0):
         "ScatterNormal": where(scatter, unit(scatter), 0.0),
         # frames in each pixel's mean; below 1 and fractional as the mapper's faded history
         "HistoryLength": rng.uniform(0.0, 3.5, (h, w, 1)).astype(np.float32),
+        # the camera ray's opacity: fractional, at least Alpha's support; out of [0, 1] at two
+        # pixels (the channel clips)
+        "Coverage": where(hit, np.maximum(scatter, rng.uniform(-0.1, 1.1, (h, w))), 0.0)[..., None],
     }
     return passes, hit, scatter
 
@@ -322,6 +325,8 @@ def test_build_features_shapes_ranges_and_misses() -> None:
     assert (plane["history"][frames <= 1.0] == 1.0).all()
     no_count = {k: v for k, v in passes.items() if k != "HistoryLength"}
     assert (F.build_features(no_count, ["history", "depth"])[0] == 1.0).all()
+    # coverage: clip(Coverage, 0, 1)
+    np.testing.assert_array_equal(plane["coverage"], np.clip(passes["Coverage"][:, :, 0], 0, 1))
     # Hits span [0, 1] per frame.
     d = passes["Depth"][:, :, 0]
     assert plane["depth"][hit].min() == 0.0 and plane["depth"][hit].max() == 1.0
@@ -856,7 +861,7 @@ def test_cxx_runner_rejects_bad_models(ptv, tmp_path: Path, monkeypatch) -> None
     assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
     for text in ("the fixed guide (", "truncated.onnx", ") cannot run: ", "'Depth'"):
         assert text in messages[0], (text, messages[0])
-    set_frame(denoiser, passes, frame)
+    set_frame(denoiser, passes, frame + ("Coverage",))  # the shipped model reads "coverage"
     messages.clear()
     # Still alive and usable; no model file set = the shipped one (on features from the passes).
     denoiser.SetModelFile(str(good))

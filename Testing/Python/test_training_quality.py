@@ -47,9 +47,9 @@ def test_shipped_model_beats_noisy_by_3db(volume_path) -> None:
     denoised = scene.get_pass("Denoised")
     passes = {name: scene.get_pass(name) for name in
               ("Radiance", "Albedo", "Normal", "Depth", "ScatterNormal", "ScatterDepth",
-               "Position", "ScatterPosition", "Alpha")}
+               "Position", "ScatterPosition", "Alpha", "Coverage")}
 
-    scene.set_view(VIEW, seed=12345, denoise=False, max_frames=REFERENCE_SPP)
+    scene.set_view(VIEW, seed=12345, denoise=False, max_frames=REFERENCE_SPP, coverage=False)
     assert scene.render(REFERENCE_SPP) == REFERENCE_SPP
     reference = scene.get_pass("Radiance")
 

@@ -116,7 +116,7 @@ def paper_view(dataset: str, size: int, camera: int, reference_spp: int,
         scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=1)
         scene.render(1)
         arrays = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES}
-        scene.set_view(view, seed=PAPER_SEEDS[1], max_frames=reference_spp)
+        scene.set_view(view, seed=PAPER_SEEDS[1], max_frames=reference_spp, coverage=False)
         if scene.render(reference_spp) != reference_spp:
             raise RuntimeError(f"{path.name}: the reference did not accumulate")
         arrays["reference"] = scene.get_pass("Radiance")

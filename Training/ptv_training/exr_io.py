@@ -12,6 +12,7 @@ Channel names follow the EXR conventions (``R,G,B``; ``albedo.R``; ``N.X``; ``Z`
     ScatterDepth                       scatter.Z                  spp<k>.scatter.Z
     ScatterPosition                    scatter.P.X/Y/Z            spp<k>.scatter.P.X/Y/Z
     ScatterNormal                      scatter.N.X/Y/Z            spp<k>.scatter.N.X/Y/Z
+    Coverage                           coverage.A                 spp<k>.coverage.A
 
 plus radiance-only images: ``reference.R/G/B`` (R spp, an independent seed), ``reference_half.*``
 (the first R/2 of those frames, for the convergence check) and ``spp16.*`` (16 spp from the
@@ -46,6 +47,7 @@ PASS_CHANNELS: Dict[str, Tuple[str, ...]] = {
     "ScatterDepth": ("scatter.Z",),
     "ScatterPosition": ("scatter.P.X", "scatter.P.Y", "scatter.P.Z"),
     "ScatterNormal": ("scatter.N.X", "scatter.N.Y", "scatter.N.Z"),
+    "Coverage": ("coverage.A",),
 }
 INPUT_PASSES: Tuple[str, ...] = tuple(PASS_CHANNELS)
 INPUT_SPP: Tuple[int, ...] = (1, 2, 4)

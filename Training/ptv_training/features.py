@@ -17,6 +17,7 @@ Passes (``passes[name]`` is ``(H, W, C)`` or ``(H, W)`` for one component, row `
     ScatterDepth     1  like Depth, for the scattering event
     ScatterPosition  3  like Position, for the scattering event
     ScatterNormal    3  like Normal, for the scattering event
+    Coverage         1  the camera ray's opacity in [0, 1] (ComputeCoverage; else Alpha)
 
 Channels (names are what ``ptv.input_channels`` of an exported model lists)::
 
@@ -32,6 +33,9 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
     scatter_normal.*    as normal.*, from ScatterNormal
     scatter_depth       as depth, from ScatterDepth (hits are scattering events)
     scatter_position.*  as position.*, from ScatterPosition with the ScatterDepth hit mask
+    coverage            clip(Coverage, 0, 1): the camera ray's opacity, its expected Alpha
+                        without the event's coin flip (the mapper's ComputeCoverage): below 1
+                        in a fog or a thin translucent layer, 1 on an opaque surface
     history             1 / max(1, HistoryLength) (NaN counts as 1, +inf gives 0): the share of
                         the newest frame in the pixel's mean (a still accumulation of k
                         frames: 1 / k; the mapper's reprojected history: its per-pixel count);
@@ -74,6 +78,7 @@ _KINDS: Dict[str, Tuple[str, str | None]] = {
     "scatter_depth": ("ScatterDepth", "ScatterDepth"),
     "scatter_position": ("ScatterPosition", "ScatterDepth"),
     "history": ("HistoryLength", None),
+    "coverage": ("Coverage", None),
 }
 _SUFFIXES = {"color": "rgb", "albedo": "rgb", "normal": "xyz", "position": "xyz",
              "scatter_normal": "xyz", "scatter_position": "xyz"}
@@ -188,7 +193,7 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
     shape: Tuple[int, int] | None = None
     components = {"Radiance": 3, "Alpha": 1, "Albedo": 3, "Depth": 1, "Position": 3,
                   "Normal": 3, "ScatterDepth": 1, "ScatterPosition": 3, "ScatterNormal": 3,
-                  "HistoryLength": 1}
+                  "HistoryLength": 1, "Coverage": 1}
 
     def get(name: str) -> np.ndarray:
         nonlocal shape
@@ -219,7 +224,7 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
         elif kind == "history":  # 1 / frames in the pixel's mean: its noise variance scale
             frames = np.where(np.isnan(x), np.float32(1), x)  # NaN: one frame (as the C++)
             plane = np.float32(1) / np.maximum(frames, np.float32(1))
-        elif kind in ("alpha", "albedo"):
+        elif kind in ("alpha", "albedo", "coverage"):
             plane = np.clip(x, 0.0, 1.0)
         elif kind in ("normal", "scatter_normal"):
             plane = np.clip((x + np.float32(1)) * np.float32(0.5), 0.0, 1.0)

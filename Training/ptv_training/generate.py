@@ -181,7 +181,8 @@ def render_view(scene: Scene, view: Dict[str, Any]) -> Dict[str, Any]:
 
     t0 = time.perf_counter()
     ref_spp = view["reference_spp"]
-    scene.set_view(view, seed=view["reference_seed"], denoise=False, max_frames=ref_spp)
+    scene.set_view(view, seed=view["reference_seed"], denoise=False, max_frames=ref_spp,
+                   coverage=False)
     got = scene.render(ref_spp // 2)
     if got != ref_spp // 2:
         raise RuntimeError(f"reference: accumulated {got} frames, expected {ref_spp // 2}")

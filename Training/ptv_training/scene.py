@@ -121,8 +121,10 @@ class Scene:
         self._keep: list = []
 
     def set_view(self, view: Mapping[str, Any], seed: int = 0, denoise: bool = False,
-                 max_frames: int = 1024) -> Any:
-        """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper."""
+                 max_frames: int = 1024, coverage: bool = True) -> Any:
+        """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper. With
+        ``coverage`` the mapper traces the Coverage pass (ComputeCoverage; a reference's
+        radiance does not need it, and it changes no other pass)."""
         from pathtracedvolume import vtkPathTracedVolumeMapper
         from pathtracedvolume.presets import find_preset
         from pathtracedvolume.scene import BACKGROUND, place_camera, volume_property
@@ -147,6 +149,7 @@ class Scene:
         mapper.SetSeed(int(seed))
         mapper.SetMaximumAccumulatedFrames(int(max_frames))
         mapper.SetDenoise(bool(denoise))
+        mapper.SetComputeCoverage(bool(coverage))  # GuideNet's "coverage" channel
         if self.threads:
             mapper.SetNumberOfThreads(int(self.threads))
         volume = vtkVolume()

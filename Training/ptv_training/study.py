@@ -24,7 +24,10 @@ levels): ``v2-features`` asks which auxiliary features and which loss pay, ``v2-
 without each volume and tests on its held-out views. ``v2-cpu`` is ``cpu`` again on the second data
 set: the shipped network against a 3 x 3 second conv, 3 x 3 throughout and 1/4 resolution.
 ``v3-loo`` is ``v2-loo`` with the architecture shipped since that study (hidden 32, 3 x 3
-throughout, stride 2, 8 outputs, PAPER_10, 3 levels), on the same data.
+throughout, stride 2, 8 outputs, PAPER_10, 3 levels), on the same data. ``v4-loo`` is the
+recipe shipped since the coverage study: ``v3-loo`` with the ``coverage`` channel, level dropout
+and the jittered presets (``generate.py --tf presets``, ``.cache/training/presets``) as extra
+data, whose views of the left-out volume are left out as well.
 
 ``unet`` is the paper's Table 2: the U-Net baseline (``unet.py``) against the bilateral-grid
 denoiser, PSNR as above plus the C++ denoise time (``vtkPTVDenoiser``, the same ONNX Runtime
@@ -185,7 +188,12 @@ STUDIES["v2-cpu"] = [v2_cpu_candidate(*c) for c in V2_CPU_CANDIDATES]
 # The architecture shipped since the v2-cpu study (d251c34): hidden 32, 3 x 3 throughout.
 V3_SHIP = with_flag(with_flag(V2_SHIP, "--hidden", 32), "--kernel", 3)
 # The leave-one-out studies: each trains ``flags`` on every dataset, and once without each.
-LOO_FLAGS = {"v2-loo": V2_SHIP, "v3-loo": V3_SHIP}
+# The recipe shipped since the coverage study: PAPER_10 + the camera rays' coverage, level dropout,
+# and the jittered presets of head, stent and concrete besides the random transfer functions.
+PRESETS_DATA = Path(__file__).resolve().parents[2] / ".cache" / "training" / "presets"
+V4_SHIP = with_channels(V3_SHIP, "PAPER_10,coverage") + [
+    "--level-counts", "1,3", "--extra-data", str(PRESETS_DATA)]
+LOO_FLAGS = {"v2-loo": V2_SHIP, "v3-loo": V3_SHIP, "v4-loo": V4_SHIP}
 
 
 def leave_one_out(datasets: Sequence[str], flags: List[str]) -> List[Experiment]:
@@ -197,7 +205,7 @@ def leave_one_out(datasets: Sequence[str], flags: List[str]) -> List[Experiment]
 
 def on_second_data(study: str) -> bool:
     """Whether a study runs on the second data set (relative-MSE loss) rather than the first."""
-    return study.startswith(("v2-", "v3-"))
+    return study.startswith(("v2-", "v3-", "v4-"))
 
 
 def data_datasets(data: Path) -> List[str]:
