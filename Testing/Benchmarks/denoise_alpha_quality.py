@@ -21,7 +21,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "Training"))
 NAMES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal", "ScatterDepth",
-         "ScatterPosition", "ScatterNormal"]
+         "ScatterPosition", "ScatterNormal", "Coverage"]
 
 
 def main() -> int:
