@@ -188,6 +188,19 @@ def test_cxx_matches_python_pipeline(passes, variant_models, variant, portable) 
     assert err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
 
 
+def parity(passes: dict[str, np.ndarray], path: Path, net: GuideNet, channels,
+           portable: bool) -> np.ndarray:
+    """The C++ output for ``passes`` with the model at ``path``, checked against the torch
+    pipeline within the tolerance of test_cxx_matches_python_pipeline (no message)."""
+    ok, out, den, messages = cxx_denoise(passes, str(path), PortableKernels=portable)
+    assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
+    ref = torch_pipeline(passes, net, channels)
+    span = float(ref.max() - ref.min())
+    err = float(np.abs(out - ref).max())
+    assert span > 0 and err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
+    return out
+
+
 @pytest.mark.parametrize("portable", [False, True], ids=["dispatched", "portable"])
 def test_history_channel_matches_python(passes, tmp_path, portable) -> None:
     """A model with the ``history`` channel (1 / max(1, HistoryLength), features.py) reads the
@@ -205,12 +218,7 @@ def test_history_channel_matches_python(passes, tmp_path, portable) -> None:
     with_history = dict(passes, HistoryLength=frames)
     plane = features.build_features(with_history, ["history"])[0]
     assert plane[0, 0] == 1.0 and plane[0, 1] == 0.0 and plane[1, 0] == 1.0
-    ok, out, den, messages = cxx_denoise(with_history, str(path), PortableKernels=portable)
-    assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
-    ref = torch_pipeline(with_history, net, channels)
-    span = float(ref.max() - ref.min())
-    err = float(np.abs(out - ref).max())
-    assert span > 0 and err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
+    parity(with_history, path, net, channels, portable)
     outs = []
     for count in (1.0, 4.0):
         still = dict(passes, HistoryLength=np.full((h, w, 1), count, np.float32))
@@ -242,13 +250,7 @@ def test_coverage_channel_matches_python(passes, tmp_path, portable) -> None:
     assert plane[0, 0] == 0.0 and plane[0, 1] == 1.0
     outs = []
     for given in (odd, dict(passes, Coverage=passes["Alpha"])):
-        ok, out, den, messages = cxx_denoise(given, str(path), PortableKernels=portable)
-        assert ok and den.GetNetworkActive() and messages == [], den.GetStatus()
-        ref = torch_pipeline(given, net, channels)
-        span = float(ref.max() - ref.min())
-        err = float(np.abs(out - ref).max())
-        assert span > 0 and err <= 1e-4 * span, f"max |C++ - Python| = {err:.3g}, range {span:.3g}"
-        outs.append(out)
+        outs.append(parity(given, path, net, channels, portable))
     assert not np.array_equal(outs[0], outs[1])
     from ptv_vtk_messages import observe
 

@@ -67,19 +67,20 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
                            box=(200, 200))
         # timings at view 0, all methods in the same rounds
         p0 = {n: bench.view_data(ds, 0)[f"{n}@1"] for n in pb.PASSES}
-        t_trace, den = timed_rounds(bench, ds, p0, table1_rounds(a))
-        stages[ds] = {"trace": t_trace, **{m: {k: den[m][k] for k in pb.STAGES + ("ms",)}
-                                           for m in (EVERY, "ours")}}
+        t_trace, t_ours, den = timed_rounds(bench, ds, p0, table1_rounds(a))
+        stages[ds] = {"trace": t_ours, "trace_plain": t_trace,
+                      **{m: {k: den[m][k] for k in pb.STAGES + ("ms",)} for m in (EVERY, "ours")}}
         rows: Dict[str, Dict[str, Any]] = {}
         for name, qs in quality.items():
             spp = int(name.split()[0]) if name.endswith(" spp") else 1
             denoise_ms = den[name]["ms"] if name in den else 0.0
+            trace_ms = t_ours if name in (EVERY, "ours") else spp * t_trace
             rows[name] = {
                 "dataset": ds, "method": name, "spp": spp,
                 "psnr": float(np.mean([q[0] for q in qs])),
                 "ssim": float(np.mean([q[1] for q in qs])),
-                "trace_ms": spp * t_trace, "denoise_ms": denoise_ms,
-                "frame_ms": spp * t_trace + denoise_ms, "views": len(qs),
+                "trace_ms": trace_ms, "denoise_ms": denoise_ms,
+                "frame_ms": trace_ms + denoise_ms, "views": len(qs),
                 "in_table": name in METHODS or spp in a.sweep,
             }
         chart_rows += list(rows.values())
@@ -100,19 +101,27 @@ def table1_rounds(args: argparse.Namespace) -> int:
 
 
 def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds: int
-                 ) -> Tuple[float, Dict[str, Dict[str, Any]]]:
+                 ) -> Tuple[float, float, Dict[str, Dict[str, Any]]]:
     """The 1-spp trace (a fresh frame, the tracer's own time) and every denoiser on view 0's
     passes in the same rounds (pb.interleaved: a slow spell of the shared machine slows them
-    alike), one warm-up round, then ``rounds``: (median trace ms, per denoiser the row of
-    pb.run_ours / pb.run_oidn with medians over the rounds). Every denoiser runs right after
-    a trace, as in a frame: the trace leaves the caches to the volume, and a denoiser timed
-    after another denoiser would find its own buffers warm."""
+    alike), one warm-up round, then ``rounds``: (median trace ms without the Coverage pass,
+    the same with it where our model reads it -- the mapper then traces it, and only then --,
+    per denoiser the row of pb.run_ours / pb.run_oidn with medians over the rounds). Every
+    denoiser runs right after a trace, as in a frame (ours after a trace with the Coverage pass
+    when its model reads it, the others after one without): the trace leaves the caches to the
+    volume, and a denoiser timed after another denoiser would find its own buffers warm."""
     import statistics
 
     a = bench.args
     scene = bench.scenes.scene(bench.view_spec(ds, 0))
     seeds = iter(range(500000, 500000 + 4 * (rounds + 1)))
-    traced: List[float] = []
+    reads = "coverage" in pb.model_props(a.model)["ptv.input_channels"].split(",")
+    traced: Dict[bool, List[float]] = {False: [], True: []}
+
+    def trace(coverage: bool) -> None:
+        scene.mapper.SetComputeCoverage(coverage)
+        traced[coverage].append(scene.render(next(seeds), 1)[0])
+
     ours = {m: pb.Ours(lv, a.model, a.threads)
             for m, lv in ((EVERY, pb.model_levels(a.model)), ("ours", 0))}
     for o in ours.values():
@@ -121,7 +130,7 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     denoisers.update({m: (lambda o=o: o.execute(copy=False)) for m, o in ours.items()})
     calls: Dict[str, Any] = {}
     for m, call in denoisers.items():
-        calls[f"trace before {m}"] = lambda: traced.append(scene.render(next(seeds), 1)[0])
+        calls[f"trace before {m}"] = lambda c=reads and m in ours: trace(c)
         calls[m] = call
     runs = pb.interleaved(calls, rounds, {m: o.stages for m, o in ours.items()})
     den: Dict[str, Dict[str, Any]] = {}
@@ -134,7 +143,11 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
             row.update({k: statistics.median(e[k] for e in run["extra"]) for k in pb.STAGES})
             row.update(status=ours[m].status(), kernels=ours[m].kernel_target())
         den[m] = row
-    return statistics.median(traced[len(denoisers):]), den  # without the warm-up round's
+    per_round = {c: sum(1 for m in denoisers if (reads and m in ours) == c) for c in traced}
+    plain, marched = (statistics.median(traced[c][per_round[c]:])  # without the warm-up round's
+                      if per_round[c] else float("nan") for c in (False, True))
+    scene.mapper.SetComputeCoverage(True)  # as the scene was
+    return plain, marched if reads else plain, den
 
 
 def speedup(sweep: Sequence[Mapping[str, Any]], method: Mapping[str, Any],
@@ -230,8 +243,10 @@ def markdown(a: argparse.Namespace, summary: Sequence[Mapping[str, Any]],
           f"{', '.join(f'{VIEWS[v][0]:.0f}°/{VIEWS[v][1]:.0f}°' for v in range(a.views))}),"
           f" PSNR/SSIM = mean over the views against a {a.ref_spp}-spp reference of an "
           f"independent seed. Time per frame: N spp = N × the median 1-spp trace time; "
-          f"denoisers = 1-spp trace + the median denoise time (ours: vtkPTVDenoiser "
-          f"with the shipped model; OIDN: pyoidn RT filter, HDR colour + albedo + normal), "
+          f"denoisers = 1-spp trace (ours: with the Coverage pass, which the mapper traces "
+          f"when the model reads it; the others without) + the median denoise time (ours: "
+          f"vtkPTVDenoiser with the shipped model; OIDN: pyoidn RT filter, HDR colour + albedo "
+          f"+ normal), "
           f"all on the same 1-spp passes, view 0; every denoiser right after a 1-spp trace (a "
           f"fresh frame, as in a frame loop), all of them once per round, median of "
           f"{table1_rounds(a)} rounds after a warm-up round.",
