@@ -26,6 +26,9 @@ TABLES = (("Table 2", "unet", "autoencoder (U-Net) baseline vs ours"),
           ("Table 3, shipped architecture, three seeds", "v3-loo_seeds",
            "v3-loo's unseen-volume gaps with seeds 0, 1 and 2 and their mean (one seed's "
            "training noise is of the size of the gaps)"),
+          ("Table 3, the coverage recipe", "v4-loo",
+           "leave-one-volume-out with the shipped recipe since 2026-12-05 (the coverage input, "
+           "level dropout, the jittered presets as extra data)"),
           ("Table 4, second data set", "v2-features", "auxiliary-feature and loss ablation"),
           ("Held-out transfer functions", "heldout_tf", "ours against OIDN fast on transfer "
            "functions never seen in training"))
