@@ -576,10 +576,12 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
   p.ExpectedCoverage = ExpectedCoverage();
+  const double coverage = static_cast<double>(p.ExpectedCoverage);
+  signature.AddExact(&coverage, 1);
+  // Not in the signature: a frame without the march stores Alpha as its Coverage, whose
+  // expectation is the same opacity, and no other pass changes; so turning Denoise (and with
+  // it a coverage model's march) on or off keeps the accumulation, as it always has.
   p.CoverageMarch = settings.CoverageMarch ? 1 : 0;
-  const double coverage[2] = { static_cast<double>(p.ExpectedCoverage),
-    static_cast<double>(p.CoverageMarch) };
-  signature.AddExact(coverage, 2);
   // Reach 0 sees no occluder at all (the unoccluded environment); 1 or more: the whole volume.
   const double reach = settings.AmbientOcclusionReach;
   p.AmbientOcclusion = settings.AmbientOcclusion && reach > 0.0 ? 1 : 0;

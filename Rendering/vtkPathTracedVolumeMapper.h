@@ -187,7 +187,8 @@ public:
    * transmittance is below 0.01. The denoiser turns this on by itself when its model reads the
    * "coverage" channel (the shipped one does); set it to get the pass without denoising (the
    * training data does). It costs trace time in translucent volumes and changes no other pass.
-   * Without it the Coverage pass is Alpha. Only with Scattering on (off: Coverage is Alpha).
+   * Without it the Coverage pass is Alpha, whose expectation is the same opacity, so turning
+   * it on or off keeps the accumulation. Only with Scattering on (off: Coverage is Alpha).
    * Default off.
    */
   vtkSetMacro(ComputeCoverage, bool);

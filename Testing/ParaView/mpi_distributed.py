@@ -12,12 +12,13 @@ Checks, all against a 2048-spp 1-rank reference traced with another seed:
    dominates the noise). Negative control: GhostLayers 0 (shadows and occlusion stop at the
    piece boundary) misses the same bounds, so the check sees a seam;
 2. the same at 1 sample per frame (8 frames): composited frames accumulate like one rank's;
-3. denoised: 2 ranks' Denoised pass (rank 0 denoises the composited frame) within 0.7 dB of
+3. denoised: 2 ranks' Denoised pass (rank 0 denoises the composited frame) within 1.0 dB of
    1 rank's at 8 spp. The split frames are a little noisier than one rank's (8 spp raw: 0.13 dB
    below), and the denoiser keeps more of that: measured 2 ranks below 1 rank by 0.27-0.47 dB
-   (previous model, seeds 1-3), 0.28-0.63 dB (shipped model at 1 level) and 0.45 dB (its
-   3 levels, this test's default at 128^2). A wrong composite (features, passes or order)
-   costs several dB;
+   (an early model, seeds 1-3), 0.28-0.63 dB (the PAPER_10 model at 1 level), 0.45 dB (its
+   3 levels, this test's default at 128^2) and 0.74 dB (the coverage model, 2026-12-05, whose
+   composited Coverage pass matches one rank's within the march's 0.01 cutoff). A wrong
+   composite (features, passes or order) costs several dB;
 4. every rank reports no error or warning; NumberOfSamplingRanks is N;
 5. a volume too small to give 4 ranks a piece each (mpi_tiny.py, 2 x 2 x 2 points) renders
    instead of hanging: it is replicated whatever the limit.
@@ -88,8 +89,8 @@ def main() -> int:
     ref_denoised = denoised(tmp / "reference" / "passes.exr")
     d_one = psnr(ref_denoised, denoised(tmp / "one_denoised" / "passes.exr"))
     d_two = psnr(ref_denoised, denoised(tmp / "ranks2_denoised" / "passes.exr"))
-    check(d_two >= d_one - 0.7, f"2 ranks denoised: PSNR {d_two:.2f} dB >= 1 rank {d_one:.2f} "
-          "- 0.7 dB")
+    check(d_two >= d_one - 1.0, f"2 ranks denoised: PSNR {d_two:.2f} dB >= 1 rank {d_one:.2f} "
+          "- 1.0 dB")
 
     # 5. More ranks than pieces: replicated, not a rank without data that the others wait for.
     import json
