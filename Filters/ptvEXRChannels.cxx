@@ -31,6 +31,7 @@ const std::vector<KnownPass>& KnownPasses()
     { "ScatterPosition", { "scatter.P.X", "scatter.P.Y", "scatter.P.Z" } },
     { "ScatterNormal", { "scatter.N.X", "scatter.N.Y", "scatter.N.Z" } },
     { "Coverage", { "coverage.A" } },
+    { "Footprint", { "footprint.A" } },
     { "Denoised", { "denoised.R", "denoised.G", "denoised.B" } },
   };
   return known;

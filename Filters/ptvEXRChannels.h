@@ -8,6 +8,7 @@
 //   ScatterDepth    scatter.Z            ScatterPosition  scatter.P.X/Y/Z
 //   ScatterNormal   scatter.N.X/Y/Z      Denoised         denoised.R/G/B
 //   Coverage        coverage.A
+//   Footprint       footprint.A
 //   any other array <name>.<suffix>: 1 component Y, 3 components R,G,B, 4 components R,G,B,A,
 //                   any other count 0,1,2,... (e.g. BlendWeights.0, BlendWeights.1).
 // The writer also stores the layout in the string attribute "ptv.passes"

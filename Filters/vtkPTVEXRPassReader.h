@@ -9,7 +9,8 @@
  * Other EXR files are grouped by the channel-name convention: R,G,B -> "Radiance",
  * A or alpha.A -> "Alpha", albedo.R/G/B -> "Albedo", Z -> "Depth", P.X/Y/Z -> "Position",
  * N.X/Y/Z -> "Normal", scatter.Z / scatter.P.* / scatter.N.* -> "ScatterDepth" /
- * "ScatterPosition" / "ScatterNormal", coverage.A -> "Coverage", denoised.R/G/B -> "Denoised";
+ * "ScatterPosition" / "ScatterNormal", coverage.A -> "Coverage", footprint.A -> "Footprint",
+ * denoised.R/G/B -> "Denoised";
  * any other channel joins the array named by the text before its last '.' (components ordered
  * R,G,B,A / X,Y,Z / numeric), and a channel without '.' is a 1-component array of its own name.
  * HALF and UINT channels are converted to float. The "Radiance" array, when present, is the

@@ -17,6 +17,7 @@
  * | ScatterDepth | scatter.Z | ScatterPosition | scatter.P.X/Y/Z |
  * | ScatterNormal | scatter.N.X/Y/Z | Denoised | denoised.R/G/B |
  * | Coverage | coverage.A | | |
+ * | Footprint | footprint.A | | |
  *
  * Any other array (or a known name with another number of components) is written as
  * `<name>.Y` (1 component), `<name>.R/G/B` (3), `<name>.R/G/B/A` (4) or `<name>.0`, `.1`, ...

@@ -281,21 +281,21 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   {
     return false;
   }
-  if (!alpha)
-  {
-    return true;
-  }
   const double start = NowMs();
-  if (this->LastRanGrid && this->Grid.GetLastAlphaDone())
+  if (alpha && this->LastRanGrid && this->Grid.GetLastAlphaDone())
   {
     // The CPU grid filtered the opacity beside the colour (its time is in Splat and Slice).
     FinishOpacity(settings.Threads, width, height, alpha, 1, alpha, out);
   }
-  else
+  else if (alpha)
   {
     this->DenoiseOpacity(settings, passes[PassAlpha], width, height, alpha, out);
   }
-  this->Timings.Alpha = NowMs() - start;
+  if (settings.Footprint && passes[PassFootprint])
+  {
+    KeepEmptyBlack(settings.Threads, width, height, passes[PassFootprint], out, alpha);
+  }
+  this->Timings.Alpha = alpha ? NowMs() - start : 0.0;
   return true;
 }
 
@@ -476,6 +476,34 @@ void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alp
   this->Grid.Apply(grid, settings.UseCuda, width, height, rgb, nullptr,
     levels > 1 ? fine : guides, nullptr, this->Filtered.data(), cudaError);
   FinishOpacity(threads, width, height, this->Filtered.data(), 3, alpha, color);
+}
+
+//------------------------------------------------------------------------------
+void Denoiser::KeepEmptyBlack(int threads, int width, int height, const float* footprint,
+  float* color, float* alpha)
+{
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const std::size_t w = static_cast<std::size_t>(width);
+  ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
+    [&](std::size_t begin, std::size_t end)
+    {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const std::size_t x = i % w;
+        const std::size_t right = x + 1 < w ? 1 : 0;     // the corner (x + 1, y)
+        const std::size_t below = i + w < n ? w : 0;     // the corner (x, y + 1)
+        const bool covered = footprint[i] > 0.f || footprint[i + right] > 0.f ||
+          footprint[i + below] > 0.f || footprint[i + below + right] > 0.f;
+        if (!covered) // NaN counts as empty: the pass is 0 or 1 (means of them)
+        {
+          color[3 * i] = color[3 * i + 1] = color[3 * i + 2] = 0.0f;
+          if (alpha)
+          {
+            alpha[i] = 0.0f;
+          }
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -25,6 +25,8 @@ struct DenoiserSettings
 {
   std::string ModelFile; ///< empty: the shipped model (ptv::DefaultModelFile())
   bool UseNetwork = true; ///< false: always the fixed guide
+  /// Keep the pixels that the Footprint pass (when given) marks empty black (Run).
+  bool Footprint = true;
   int Levels = 0;         ///< 0: the model's (3 for the fixed guide); 1..3, <= the model's
   double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
   int Threads = 0;        ///< <= 0: every core
@@ -76,6 +78,13 @@ public:
    * bin) has an event, so the colour the coarser levels spread there is set to 0 as well; with
    * one level that colour is 0 already. An image model has no grid: @a alpha is then a copy of
    * the Alpha pass and the colour stays.
+   *
+   * With the Footprint pass (vtkPathTracedVolumeMapper::ComputeFootprint) and Footprint on
+   * in @a settings (the default) the pixels that it
+   * marks empty space -- 0 at the pixel's four corners, its own entry and those of pixels
+   * (x + 1, y), (x, y + 1), (x + 1, y + 1), clamped at the image's edge -- are set to 0 in @a out
+   * (and @a alpha): the grid spreads the colour of a thin structure into the empty pixels of
+   * its guide bin, which one sample cannot tell from the fringe its ray missed.
    */
   bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
     float* out, std::string& error, const DenoiserOverrides* given = nullptr,
@@ -127,6 +136,9 @@ private:
   /// clamped to [0, 1], and @a color set to 0 where that is 0.
   static void FinishOpacity(int threads, int width, int height, const float* filtered,
     int stride, float* alpha, float* color);
+  /// @a color (and @a alpha, if given) set to 0 where @a footprint marks the pixel empty (Run).
+  static void KeepEmptyBlack(int threads, int width, int height, const float* footprint,
+    float* color, float* alpha);
   /// The fixed guide's guides and weights from albedo, depth and normal.
   bool FixedGuide(const DenoiserSettings& settings, const float* const* passes, int width,
     int height, std::string& error);

@@ -434,6 +434,8 @@ bool FrameInputs::UpdateTransfer(
     }
     this->RGBA[4 * i + 3] = std::min(1.0f, std::max(0.0f, alpha[i]));
   }
+  this->OpaqueBefore.resize(kTableSize + 1);
+  BuildOpaqueCounts(this->RGBA.data(), kTableSize, this->OpaqueBefore.data());
 
   // Gradient opacity only when it can change anything (VTK's default function is constant 1).
   this->GradientOpacity.clear();
@@ -547,6 +549,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   tf.GradientOpacity = this->GradientOpacity.empty() ? nullptr : this->GradientOpacity.data();
   tf.GradientSize = kGradientTableSize;
   tf.GradientMax = this->GradientMax;
+  tf.OpaqueBefore = this->OpaqueBefore.data();
   if (settings.EmptySpaceSkipping && !this->BrickDistance.empty())
   {
     p.Occupancy.Distance = this->BrickDistance.data();
@@ -582,6 +585,9 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   // expectation is the same opacity, and no other pass changes; so turning Denoise (and with
   // it a coverage model's march) on or off keeps the accumulation, as it always has.
   p.CoverageMarch = settings.CoverageMarch ? 1 : 0;
+  // Not in the signature either: a frame without the rays stores Footprint 1 (not known to be
+  // empty), which only keeps the accumulated mean above 0, where the denoiser keeps the pixel.
+  p.FootprintRays = settings.FootprintRays ? 1 : 0;
   // Reach 0 sees no occluder at all (the unoccluded environment); 1 or more: the whole volume.
   const double reach = settings.AmbientOcclusionReach;
   p.AmbientOcclusion = settings.AmbientOcclusion && reach > 0.0 ? 1 : 0;

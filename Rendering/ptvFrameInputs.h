@@ -47,6 +47,9 @@ struct FrameSettings
   /// (TraceParams::CoverageMarch): asked for, or set by the frame loop when the denoiser's
   /// model reads it.
   bool CoverageMarch = false;
+  /// Look for empty pixels with four fixed rays, the Footprint pass
+  /// (TraceParams::FootprintRays): asked for, or set by the frame loop when it denoises.
+  bool FootprintRays = false;
   /// Clipping planes in world space, kept where n.x + d >= 0: (n.x, n.y, n.z, d), at most 6.
   int ClipPlaneCount = 0;
   double ClipPlanes[6][4] = {};
@@ -192,6 +195,7 @@ private:
   std::vector<float> GradientOpacity;
   std::vector<float> StepRGBA;    ///< RGBA with the opacity of one camera step (see SetStepTables)
   std::vector<float> ShadowAlpha; ///< the opacity of one shadow/environment step
+  std::vector<int> OpaqueBefore;  ///< TransferTable::OpaqueBefore of RGBA
   float StepTableKey[2] = { -1.0f, -1.0f }; ///< the step / unit distance they were built for
   float GradientMax = 1.0f;
   int Nearest = 0;

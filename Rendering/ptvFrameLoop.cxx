@@ -142,6 +142,11 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     this->Parallel.Agree(request.Scene.CoverageMarch ||
       (request.Denoise && this->Parallel.Shows() &&
         this->Denoising.ReadsChannel(this->SettingsOf(request), "coverage"))) != 0;
+  // The Footprint pass: asked for (ComputeFootprint), or for the denoiser, which keeps the
+  // pixels it marks empty black (DenoiserFootprint).
+  request.Scene.FootprintRays = this->Parallel.Agree(request.Scene.FootprintRays ||
+                                  (request.Denoise && request.Denoiser.Footprint &&
+                                    this->Parallel.Shows())) != 0;
 
   int width = 0, height = 0, x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
@@ -319,7 +324,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
     std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
-    request.Denoiser.UseNetwork ? "net" : "fixed" };
+    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "" };
   if (this->DenoisedValid && key == this->DenoiseKey)
   {
     return true; // nothing new to denoise

@@ -64,7 +64,7 @@ struct FrameRequest
   int Threads = 0;                   ///< <= 0: every core
   int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
   bool Denoise = true;
-  DenoiserSettings Denoiser;         ///< ModelFile, UseNetwork, Levels (Threads, UseCuda: set here)
+  DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Footprint, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance
   /// A still render: trace frames until the estimated quality of what is shown reaches
   /// StillQuality (dB), or MaximumStillFrames (also capped by MaximumAccumulatedFrames) are

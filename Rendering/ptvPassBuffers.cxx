@@ -18,6 +18,7 @@ const PassInfo kPasses[PassCount] = {
   { "ScatterPosition", 3 },
   { "ScatterNormal", 3 },
   { "Coverage", 1 },
+  { "Footprint", 1 },
   { "Denoised", 3 },
   { "Guides", 3 },
   { "BlendWeights", 2 },

@@ -26,6 +26,7 @@ enum PassId
   PassScatterPosition,
   PassScatterNormal,
   PassCoverage,     ///< the camera ray's opacity (PixelSample::Coverage)
+  PassFootprint,    ///< 0 where the pixel's footprint is empty space (PixelSample::Footprint)
   PassDenoised,     ///< produced by the denoiser from the traced passes (not accumulated)
   PassGuides,       ///< its guides, one level per component (unused levels 0)
   PassBlendWeights, ///< its blend weights (unused 0)
@@ -83,6 +84,7 @@ PTV_HD PTV_INLINE void StoreSample(const TracedPassPlanes& planes, std::size_t p
   StoreVec3(planes.Data[PassScatterPosition], pixel, s.Position2);
   StoreVec3(planes.Data[PassScatterNormal], pixel, s.Normal2);
   planes.Data[PassCoverage][pixel] = s.Coverage;
+  planes.Data[PassFootprint][pixel] = s.Footprint;
 }
 
 /// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far

@@ -111,6 +111,7 @@ PixelSample Load(const std::vector<const float*>& passes, std::size_t piece, std
   s.Position2 = get3(PassScatterPosition);
   s.Normal2 = get3(PassScatterNormal);
   s.Coverage = get1(PassCoverage);
+  s.Footprint = get1(PassFootprint);
   if (pieceFar != far) // another clipping range: its misses move to the result's far
   {
     s.Depth1 = IsHit(s.Depth1, pieceFar) ? s.Depth1 : far;

@@ -15,7 +15,9 @@
  * when the model says so) is splatted into each level's bilateral grid, sliced with the level's
  * guide, blended and re-modulated (Rendering/Kernels/ptvBilateralGrid.h, which the torch
  * reference Training/ptv_training/bilateral_grid.py follows). GetGuides() and
- * GetBlendWeights() return what the network predicted.
+ * GetBlendWeights() return what the network predicted. With a "Footprint" image
+ * (vtkPathTracedVolumeMapper::ComputeFootprint) the pixels whose four corners it marks 0 --
+ * empty space -- come out black (and transparent in the DenoiseAlpha opacity).
  *
  * Three more image names replace a stage, for tests and research:
  * - "Features": the network's input (channel last, in the model's channel order, at the

@@ -397,6 +397,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     scene.SamplesPerFrame = this->SamplesPerFrame;
     scene.Scattering = this->Scattering;
     scene.CoverageMarch = this->ComputeCoverage; // the frame loop adds its model's need
+    scene.FootprintRays = this->ComputeFootprint; // and the denoiser's
     scene.AmbientOcclusion = this->AmbientOcclusion;
     scene.AmbientOcclusionReach = this->AmbientOcclusionReach;
     scene.UseRendererLight = this->UseRendererLight;
@@ -420,6 +421,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoise = this->Denoise;
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
     request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
+    request.Denoiser.Footprint = this->DenoiserFootprint;
     request.Denoiser.Levels = this->DenoiserNumberOfLevels;
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
     request.Still = this->ConvergeStillRenders && vol->GetAllocatedRenderTime() >= 1.0;
@@ -502,6 +504,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
   os << indent << "ComputeCoverage: " << this->ComputeCoverage << "\n";
+  os << indent << "ComputeFootprint: " << this->ComputeFootprint << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";
@@ -528,6 +531,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DenoiserModelFile: "
      << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";
   os << indent << "DenoiserUseNetwork: " << this->DenoiserUseNetwork << "\n";
+  os << indent << "DenoiserFootprint: " << this->DenoiserFootprint << "\n";
   os << indent << "DenoiserNumberOfLevels: " << this->DenoiserNumberOfLevels << "\n";
   os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
   os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")

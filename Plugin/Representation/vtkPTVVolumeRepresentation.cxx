@@ -412,6 +412,12 @@ void vtkPTVVolumeRepresentation::SetDenoiserUseNetwork(bool value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetDenoiserFootprint(bool value)
+{
+  this->GetPathTracedMapper()->SetDenoiserFootprint(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
 {
   this->GetPathTracedMapper()->SetDenoiserNumberOfLevels(value);

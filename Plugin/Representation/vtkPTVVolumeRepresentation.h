@@ -78,6 +78,7 @@ public:
   void SetDenoise(bool value);
   void SetDenoiserModelFile(const char* path);
   void SetDenoiserUseNetwork(bool value);
+  void SetDenoiserFootprint(bool value);
   void SetDenoiserNumberOfLevels(int value);
   ///@}
 

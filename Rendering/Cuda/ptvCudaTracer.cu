@@ -40,6 +40,7 @@ struct CudaTracer::Internals
   DeviceBuffer Scalars, Table, Gradient, Bricks, MaxDistance;
   DeviceBuffer Passes; // the traced passes, one after the other (kTracedPassCount planes)
   DeviceBuffer StepTable, ShadowTable; // TransferTable::StepRGBA, ShadowAlpha
+  DeviceBuffer OpaqueCounts;           // TransferTable::OpaqueBefore
   DeviceBuffer Colors, ColorScalars, ColorTable; // dependent colour data (VolumeGrid::Colors)
   cudaEvent_t KernelStart = nullptr, KernelEnd = nullptr; // created with the first trace
   unsigned long long VolumeVersion = ~0ull;
@@ -139,6 +140,17 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
       return false;
     }
     d.Transfer.GradientOpacity = static_cast<const float*>(in.Gradient.Ptr);
+  }
+  d.Transfer.OpaqueBefore = nullptr;
+  if (params.Transfer.OpaqueBefore)
+  {
+    if (!upload(in.OpaqueCounts, params.Transfer.OpaqueBefore,
+          sizeof(int) * (static_cast<std::size_t>(params.Transfer.Size) + 1),
+          "opacity count table upload"))
+    {
+      return false;
+    }
+    d.Transfer.OpaqueBefore = static_cast<const int*>(in.OpaqueCounts.Ptr);
   }
   if (params.Transfer.StepRGBA && params.Transfer.ShadowAlpha)
   {

@@ -58,6 +58,16 @@
  *     an opaque surface; without an event step 4's march has reached tEnd, and its T is the
  *     whole ray's). The second march draws no random numbers and comes after the shading, so
  *     every other field is bit-identical to step 4's. Without it Coverage = Alpha.
+ *  4d. FootprintRays: Footprint = 1 where the camera ray met a sample with opacity > 0 (it
+ *     has a first hit). Where it met none but came near (its march visited a sample of an
+ *     occupied brick), Footprint is whether the ray through the pixel's corner (x, y) may meet
+ *     opacity (CornerMeetsVolume); where it crossed empty bricks only, 0. The denoiser takes a
+ *     pixel whose four corners -- its own entry and those of pixels (x + 1, y), (x, y + 1),
+ *     (x + 1, y + 1) -- are 0 for empty space and keeps it black: at one sample such a pixel
+ *     cannot otherwise be told from a fringe its one ray missed. (Taking a met ray's corner as
+ *     covered and an empty-brick ray's corner as empty saves the corner rays where they rarely
+ *     matter: docs/denoiser-empty-space.md.) No random numbers: every other field is
+ *     unchanged. Without FootprintRays, Footprint is 1.
  *  5. No event before tEnd: Radiance 0, Alpha 0 (premultiplied; the background is composited
  *     outside). Otherwise Alpha = 1, Depth2/Position2/Normal2 describe the event point x and
  *     Radiance = direct + ambient + env with c = colour at x:
@@ -275,13 +285,107 @@ PTV_HD PTV_INLINE bool ClipToPiece(
   return true;
 }
 
-/// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
-/// comment; p.Frame is not read).
-PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
+/// The part of a camera ray that is marched (step 1).
+struct CameraSegment
+{
+  Vec3 Origin, Dir;     ///< world space
+  Vec3 OIdx, DIdx, InvD; ///< index space; InvD = Reciprocal(DIdx)
+  float TStart, TEnd;   ///< world distances
+  float Xi;             ///< the march offset (moved onto the whole ray's grid in a piece)
+};
+
+/**
+ * Step 1 for the camera ray through image point (fx, fy) of pixel @a pixel with march offset
+ * @a xi: [TStart, TEnd] inside the volume's box, before the pixel's MaxDistance, the clipping
+ * and (CameraBoxed) the piece. False when nothing of the ray is left to march.
+ */
+PTV_HD PTV_INLINE bool SetUpCameraRay(
+  const TraceParams& p, float fx, float fy, uint32_t pixel, float xi, CameraSegment& ray)
+{
+  GenerateRay(p.Camera, fx, fy, ray.Origin, ray.Dir);
+  ray.OIdx = TransformPoint(p.Volume.WorldToIndex, ray.Origin);
+  ray.DIdx = TransformVector(p.Volume.WorldToIndex, ray.Dir);
+  ray.InvD = Reciprocal(ray.DIdx);
+  float tEnter, tExit;
+  if (!IntersectBox(p.Volume, ray.OIdx, ray.DIdx, ray.InvD, tEnter, tExit))
+  {
+    return false;
+  }
+  ray.TStart = Max(tEnter, 0.f);
+  ray.TEnd = p.MaxDistance ? Min(tExit, p.MaxDistance[pixel]) : tExit;
+  ray.Xi = xi;
+  if (HasClipping(p.Clip) && !ClipInterval(p.Clip, ray.OIdx, ray.DIdx, ray.TStart, ray.TEnd))
+  {
+    return false;
+  }
+  if (p.CameraBoxed && !ClipToPiece(p, ray.OIdx, ray.DIdx, ray.TStart, ray.TEnd, ray.Xi))
+  {
+    return false; // a distributed piece: this ray misses this process's own part
+  }
+  return ray.TStart < ray.TEnd;
+}
+
+/**
+ * Step 4d (FootprintRays): whether the ray through the corner (x, y) of pixel (x, y) -- the
+ * image point where the pixel meets its neighbours (x - 1, y), (x, y - 1) and (x - 1, y - 1) --
+ * may meet opacity anywhere along it (1) or nowhere (0). The march (offset 0, the camera step)
+ * tests the scalar interval between each visited sample and the samples before and after it
+ * (MayBeOpaque), so that a layer thinner than a step between two samples counts as met, as it
+ * does for some of the jittered camera rays; what the occupancy grid skips is transparent at
+ * every point. Without TransferTable::OpaqueBefore: the samples' own opacity. No random
+ * numbers. Isosurfaces: 1 (not traced).
+ */
+PTV_HD PTV_INLINE PTV_NOINLINE float CornerMeetsVolume(
+  const TraceParams& p, int x, int y, uint32_t pixel)
+{
+  const float step = p.StepWorld;
+  CameraSegment ray;
+  if (p.Iso.Count > 0)
+  {
+    return 1.f;
+  }
+  if (!(step > 0.f) ||
+    !SetUpCameraRay(p, static_cast<float>(x), static_cast<float>(y), pixel, 0.f, ray))
+  {
+    return 0.f;
+  }
+  const float stepOverUnit = StepOverUnit(p, step);
+  const bool intervals = p.Transfer.OpaqueBefore != nullptr;
+  bool met = false;
+  int previous = -2;  // the last visited sample
+  float ahead = 0.f;  // the scalar one step after it
+  March(p.Occupancy, ray.OIdx, ray.DIdx, ray.InvD, ray.TStart, ray.TEnd, ray.Xi, step,
+    1.f / step,
+    [&](int k, float t, Vec3 pIdx)
+    {
+      if (!intervals)
+      {
+        met = ClassifyStep(p, pIdx, stepOverUnit).Opacity > 0.f;
+        return met;
+      }
+      const bool follows = previous == k - 1; // (previous, k) was tested from previous
+      const float s = follows ? ahead : SampleScalar(p, pIdx);
+      if (!follows)
+      {
+        const float tBefore = Max(t - step, ray.TStart);
+        met = MayBeOpaque(p.Transfer, SampleScalar(p, ray.OIdx + ray.DIdx * tBefore), s);
+      }
+      const float tAfter = Min(t + step, ray.TEnd);
+      ahead = SampleScalar(p, ray.OIdx + ray.DIdx * tAfter);
+      previous = k;
+      met = met || MayBeOpaque(p.Transfer, s, ahead);
+      return met;
+    });
+  return met ? 1.f : 0.f;
+}
+
+/// TracePixel() without step 4d; @a near: the camera ray came near opacity (its march visited
+/// a sample of an occupied brick; always with isosurfaces and ExpectedCoverage).
+PTV_HD PTV_INLINE PixelSample TraceCameraRay(
+  const TraceParams& p, int x, int y, uint32_t pixel, uint32_t frame, bool& near)
 {
   PixelSample out = MissSample(p.Camera.FarDistance);
-  const uint32_t pixel =
-    static_cast<uint32_t>(y) * static_cast<uint32_t>(p.Camera.Width) + static_cast<uint32_t>(x);
+  near = false;
   Rng rng = MakeRng(pixel, frame, p.Seed);
   const float jx = NextFloat(rng);
   const float jy = NextFloat(rng);
@@ -293,39 +397,22 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   const float threshold = 1.f - NextFloat(rng); // in (0, 1]
 
   const float step = p.StepWorld;
-  if (!(step > 0.f))
+  CameraSegment ray;
+  if (!(step > 0.f) ||
+    !SetUpCameraRay(p, static_cast<float>(x) + jx, static_cast<float>(y) + jy, pixel, xi, ray))
   {
     return out;
   }
-  Vec3 origin, dir;
-  GenerateRay(p.Camera, static_cast<float>(x) + jx, static_cast<float>(y) + jy, origin, dir);
-  const Vec3 oIdx = TransformPoint(p.Volume.WorldToIndex, origin);
-  const Vec3 dIdx = TransformVector(p.Volume.WorldToIndex, dir);
-  const Vec3 invD = Reciprocal(dIdx);
-  float tEnter, tExit;
-  if (!IntersectBox(p.Volume, oIdx, dIdx, invD, tEnter, tExit))
-  {
-    return out;
-  }
-  float tStart = Max(tEnter, 0.f);
-  float tEnd = p.MaxDistance ? Min(tExit, p.MaxDistance[pixel]) : tExit;
-  if (HasClipping(p.Clip) && !ClipInterval(p.Clip, oIdx, dIdx, tStart, tEnd))
-  {
-    return out;
-  }
-  if (p.CameraBoxed && !ClipToPiece(p, oIdx, dIdx, tStart, tEnd, xi))
-  {
-    return out; // a distributed piece: this ray misses this process's own part
-  }
-  if (!(tStart < tEnd))
-  {
-    return out;
-  }
+  const Vec3 origin = ray.Origin, dir = ray.Dir, oIdx = ray.OIdx, dIdx = ray.DIdx,
+             invD = ray.InvD;
+  const float tStart = ray.TStart, tEnd = ray.TEnd;
+  xi = ray.Xi;
 
   float T = 1.f;
   bool haveFirst = false;
   if (p.Iso.Count > 0)
   {
+    near = true;
     TraceIsoSurfaces(p, origin, dir, oIdx, dIdx, tStart, tEnd, xi, threshold, rng, out);
     out.Coverage = out.Alpha;
     return out;
@@ -333,6 +420,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   const float stepOverUnit = StepOverUnit(p, step);
   if (p.ExpectedCoverage && p.Scattering && !p.CameraBoxed)
   {
+    near = true;
     TraceCoverage(p, origin, dir, oIdx, dIdx, invD, tStart, tEnd, xi, stepOverUnit, rng, out);
     return out;
   }
@@ -340,6 +428,7 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
   March(p.Occupancy, oIdx, dIdx, invD, tStart, tEnd, xi, step, 1.f / step,
     [&](int k, float t, Vec3 pIdx)
     {
+      near = true;
       const TransferSample ts = ClassifyStep(p, pIdx, stepOverUnit);
       const float a = ts.Opacity;
       if (!(a > 0.f))
@@ -374,6 +463,22 @@ PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uin
     out.Coverage = 1.f - (carry ? CarriedTransmittance(p, oIdx, dIdx, invD, tStart, tEnd, xi,
                                     stepOverUnit, eventStep, T)
                                 : T);
+  }
+  return out;
+}
+
+/// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
+/// comment; p.Frame is not read).
+PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
+{
+  const uint32_t pixel =
+    static_cast<uint32_t>(y) * static_cast<uint32_t>(p.Camera.Width) + static_cast<uint32_t>(x);
+  bool near;
+  PixelSample out = TraceCameraRay(p, x, y, pixel, frame, near);
+  if (p.FootprintRays) // step 4d; a first event means the ray met opacity
+  {
+    const bool met = out.Depth1 < kHitFraction * p.Camera.FarDistance;
+    out.Footprint = met ? 1.f : near ? CornerMeetsVolume(p, x, y, pixel) : 0.f;
   }
   return out;
 }

@@ -294,6 +294,7 @@ PTV_HD PTV_INLINE PixelSample MissSample(float farDistance)
   s.Position2 = zero;
   s.Normal2 = zero;
   s.Coverage = 0.f;
+  s.Footprint = 1.f;
   return s;
 }
 

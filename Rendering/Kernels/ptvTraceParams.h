@@ -58,6 +58,11 @@ struct TraceParams
   /// reads the "coverage" channel. 0: Coverage is the sample's Alpha. Ignored without
   /// Scattering and with isosurfaces (Coverage = Alpha).
   int CoverageMarch;
+  /// 1: where a camera ray meets no opacity but comes near it, a ray through its pixel's corner
+  /// looks for opacity: the Footprint field (ptvIntegrator.h, step 4d), 0 where the pixel is
+  /// taken for empty space. Set when the frame is denoised. 0: Footprint is 1 (nothing is known
+  /// to be empty). Draws no random numbers: every other field is unchanged.
+  int FootprintRays;
   int AmbientOcclusion; ///< 1: environment visibility traced, 0: unoccluded environment
   /// With AmbientOcclusion: the farthest an environment ray looks for occluders (world
   /// distance; what lies beyond does not occlude); <= 0: to the volume's exit.
@@ -105,6 +110,10 @@ struct PixelSample
   /// The camera ray's opacity 1 - T over its whole march, the expectation of Alpha (noise-free:
   /// it depends on the pixel's jitter only), with TraceParams::CoverageMarch; else Alpha.
   float Coverage;
+  /// With TraceParams::FootprintRays: 1 where the camera ray met opacity, else whether the ray
+  /// through the pixel's corner (x, y) does (0 when the camera ray only crossed empty bricks);
+  /// 1 without FootprintRays (ptvIntegrator.h, step 4d).
+  float Footprint;
 };
 
 /// acc += s, field by field (averaging several samples of a pixel: CPU and CUDA drivers).
@@ -120,6 +129,7 @@ PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
   acc.Position2 = acc.Position2 + s.Position2;
   acc.Normal2 = acc.Normal2 + s.Normal2;
   acc.Coverage += s.Coverage;
+  acc.Footprint += s.Footprint;
 }
 
 /**
@@ -129,7 +139,8 @@ PTV_HD PTV_INLINE void AddSample(PixelSample& acc, const PixelSample& s)
  * counts only where the front one has none (Alpha 0), and the event's fields (Radiance, Alpha,
  * Depth2, Position2, Normal2) come from the piece that holds it; the first-hit fields (Albedo,
  * Depth1, Position1, Normal1) from the nearest piece with a first hit; Coverage is the front's
- * opacity over the back's (exact for the expected opacities of one camera ray). Misses store
+ * opacity over the back's (exact for the expected opacities of one camera ray); Footprint is
+ * 1 where either piece's rays met opacity. Misses store
  * @a far as their depths (Camera.FarDistance). Single samples only: for means of several samples the
  * product of the front's coverage and the back's radiance is not the mean of the products.
  */
@@ -149,6 +160,7 @@ PTV_HD PTV_INLINE PixelSample OverSample(const PixelSample& front, const PixelSa
   o.Position1 = front.Position1 + back.Position1 * keep1;
   o.Normal1 = front.Normal1 + back.Normal1 * keep1;
   o.Coverage = front.Coverage + back.Coverage * (1.f - front.Coverage); // the opacities' over
+  o.Footprint = Max(front.Footprint, back.Footprint);
   return o;
 }
 
@@ -165,6 +177,7 @@ PTV_HD PTV_INLINE void ScaleSample(PixelSample& acc, float w)
   acc.Position2 = acc.Position2 * w;
   acc.Normal2 = acc.Normal2 * w;
   acc.Coverage *= w;
+  acc.Footprint *= w;
 }
 }
 

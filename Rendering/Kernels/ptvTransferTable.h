@@ -35,6 +35,9 @@ struct TransferTable
   /// without gradient opacity, whose factor multiplies alpha before the correction.
   const float* StepRGBA;
   const float* ShadowAlpha;
+  /// Optional (nullptr: none): Size + 1 prefix counts, OpaqueBefore[i] = the number of entries
+  /// j < i whose opacity is > 0, for MayBeOpaque's interval queries.
+  const int* OpaqueBefore;
 };
 
 /// Colour and opacity per unit distance (uncorrected) of one classified sample.
@@ -84,6 +87,43 @@ PTV_HD PTV_INLINE TransferSample LookupRGBA(const TransferTable& tf, const float
   out.Color = MakeVec3(Lerp(a[0], b[0], f), Lerp(a[1], b[1], f), Lerp(a[2], b[2], f));
   out.Opacity = Lerp(a[3], b[3], f);
   return out;
+}
+
+/// Whether the table's opacity is > 0 at some scalar between @a a and @a b (either order; a NaN
+/// end counts as the other, two NaN ends as transparent), from OpaqueBefore (which must be
+/// set): the table is linear between entries, so the entries from the one at or below the
+/// interval's low end to the one at or above its high end decide -- exact but for the two end
+/// cells, where it errs towards opacity. Gradient opacity, which only scales it down, is not
+/// read.
+PTV_HD PTV_INLINE bool MayBeOpaque(const TransferTable& tf, float a, float b)
+{
+  if (!(a == a))
+  {
+    a = b;
+  }
+  if (!(b == b))
+  {
+    b = a;
+  }
+  if (!(a == a) || tf.Size <= 0)
+  {
+    return false;
+  }
+  const float lo = TableCoordinate(Min(a, b), tf.ScalarMin, tf.ScalarMax, tf.Size);
+  const float hi = TableCoordinate(Max(a, b), tf.ScalarMin, tf.ScalarMax, tf.Size);
+  const int i0 = static_cast<int>(floorf(lo));
+  const int i1 = Min(static_cast<int>(ceilf(hi)), tf.Size - 1);
+  return tf.OpaqueBefore[i1 + 1] > tf.OpaqueBefore[i0];
+}
+
+/// OpaqueBefore of @a size entries of @a rgba (size + 1 counts into @a counts).
+inline void BuildOpaqueCounts(const float* rgba, int size, int* counts)
+{
+  counts[0] = 0;
+  for (int i = 0; i < size; ++i)
+  {
+    counts[i + 1] = counts[i] + (rgba[4 * i + 3] > 0.f ? 1 : 0);
+  }
 }
 
 /// Colour and opacity per unit distance at scalar s (linear between entries, clamped outside;

@@ -99,6 +99,7 @@ ptv::PixelSample Sample(float alpha, float depth1, float depth2, float value, fl
   s.Normal2 = alpha > 0 ? ptv::MakeVec3(0, 1, 0) : ptv::MakeVec3(0, 0, 0);
   // The ray's opacity: whole where it has an event, partial where it only has a first hit.
   s.Coverage = alpha > 0 ? 0.8f + 0.2f * alpha : (depth1 < far ? 0.4f : 0.f);
+  s.Footprint = depth1 < far ? 1.f : 0.f; // met opacity, or not (its corner ray missed too)
   if (alpha == 0)
   {
     s.Radiance = ptv::MakeVec3(0, 0, 0);
@@ -108,16 +109,16 @@ ptv::PixelSample Sample(float alpha, float depth1, float depth2, float value, fl
 
 bool Same(const ptv::PixelSample& a, const ptv::PixelSample& b)
 {
-  const float v[2][22] = { { a.Radiance.x, a.Radiance.y, a.Radiance.z, a.Alpha, a.Albedo.x,
+  const float v[2][23] = { { a.Radiance.x, a.Radiance.y, a.Radiance.z, a.Alpha, a.Albedo.x,
                              a.Albedo.y, a.Albedo.z, a.Depth1, a.Position1.x, a.Position1.y,
                              a.Position1.z, a.Normal1.x, a.Normal1.y, a.Normal1.z, a.Depth2,
                              a.Position2.x, a.Position2.y, a.Position2.z, a.Normal2.x,
-                             a.Normal2.y, a.Normal2.z, a.Coverage },
+                             a.Normal2.y, a.Normal2.z, a.Coverage, a.Footprint },
     { b.Radiance.x, b.Radiance.y, b.Radiance.z, b.Alpha, b.Albedo.x, b.Albedo.y, b.Albedo.z,
       b.Depth1, b.Position1.x, b.Position1.y, b.Position1.z, b.Normal1.x, b.Normal1.y,
       b.Normal1.z, b.Depth2, b.Position2.x, b.Position2.y, b.Position2.z, b.Normal2.x,
-      b.Normal2.y, b.Normal2.z, b.Coverage } };
-  for (int i = 0; i < 22; ++i)
+      b.Normal2.y, b.Normal2.z, b.Coverage, b.Footprint } };
+  for (int i = 0; i < 23; ++i)
   {
     if (std::fabs(v[0][i] - v[1][i]) > 1e-4f * (1.f + std::fabs(v[1][i])))
     {
@@ -142,6 +143,9 @@ void OverTests()
     "a first hit without event: front's features, back's event");
   Check(std::fabs(mixed.Coverage - (0.4f + 1.f * 0.6f)) < 1e-6f,
     "coverage: the front's opacity over the back's");
+  Check(ptv::OverSample(miss, back, far).Footprint == 1.f &&
+      ptv::OverSample(back, miss, far).Footprint == 1.f,
+    "footprint: met where either piece's rays met opacity");
   Check(Same(ptv::OverSample(miss, miss, far), miss), "two misses stay a miss");
 }
 

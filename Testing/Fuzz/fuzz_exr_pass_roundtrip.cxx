@@ -34,9 +34,8 @@ namespace
 }
 
 const char* const kNames[] = { "Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
-  "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage", "Denoised", "BlendWeights", "R",
-  "A", "Z",
-  "albedo", "P", "mask", "x.y", "Radiance.R", "weights" };
+  "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage", "Footprint", "Denoised",
+  "BlendWeights", "R", "A", "Z", "albedo", "P", "mask", "x.y", "Radiance.R", "weights" };
 constexpr int kNumNames = sizeof(kNames) / sizeof(kNames[0]);
 }
 

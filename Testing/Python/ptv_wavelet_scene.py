@@ -77,7 +77,7 @@ def read_window(window: Any) -> np.ndarray:
     return pixels.reshape(h, w, -1)[..., :3].astype(np.float64) / 255.0
 
 
-TRACED_PASSES = 10  # the traced passes come first (vtkPathTracedVolumeMapper::GetPassName)
+TRACED_PASSES = 11  # the traced passes come first (vtkPathTracedVolumeMapper::GetPassName)
 
 
 def set_traced_passes(mapper: Any, denoiser: Any) -> list:

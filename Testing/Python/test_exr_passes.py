@@ -41,7 +41,7 @@ CONVENTIONAL = {
     "Depth": ["Z"], "Position": ["P.X", "P.Y", "P.Z"], "Normal": ["N.X", "N.Y", "N.Z"],
     "ScatterDepth": ["scatter.Z"], "ScatterPosition": ["scatter.P.X", "scatter.P.Y", "scatter.P.Z"],
     "ScatterNormal": ["scatter.N.X", "scatter.N.Y", "scatter.N.Z"],
-    "Coverage": ["coverage.A"],
+    "Coverage": ["coverage.A"], "Footprint": ["footprint.A"],
     "Denoised": ["denoised.R", "denoised.G", "denoised.B"],
     "Guides": ["Guides.R", "Guides.G", "Guides.B"],
     "BlendWeights": ["BlendWeights.0", "BlendWeights.1"],

@@ -47,7 +47,7 @@ def test_shipped_model_beats_noisy_by_3db(volume_path) -> None:
     denoised = scene.get_pass("Denoised")
     passes = {name: scene.get_pass(name) for name in
               ("Radiance", "Albedo", "Normal", "Depth", "ScatterNormal", "ScatterDepth",
-               "Position", "ScatterPosition", "Alpha", "Coverage")}
+               "Position", "ScatterPosition", "Alpha", "Coverage", "Footprint")}
 
     scene.set_view(VIEW, seed=12345, denoise=False, max_frames=REFERENCE_SPP, coverage=False)
     assert scene.render(REFERENCE_SPP) == REFERENCE_SPP
@@ -63,8 +63,10 @@ def test_shipped_model_beats_noisy_by_3db(volume_path) -> None:
     import onnx
     channels = next(p.value for p in onnx.load(str(MODEL)).metadata_props
                     if p.key == "ptv.input_channels").split(",")
-    # The mapper denoises the opacity too (DenoiseAlpha): the same colour where it is not 0.
-    standalone = cpp_denoise(MODEL, passes, required_passes(channels), alpha=True)
+    # The mapper denoises the opacity too (DenoiseAlpha): the same colour where it is not 0,
+    # and it keeps the pixels its Footprint pass marks empty black.
+    standalone = cpp_denoise(MODEL, passes, required_passes(channels) + ["Footprint"],
+                             alpha=True)
     assert standalone["network_active"]
     span = float(denoised.max() - denoised.min()) or 1.0
     assert np.abs(standalone["output"] - denoised).max() <= 1e-4 * span
