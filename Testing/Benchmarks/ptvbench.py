@@ -24,7 +24,8 @@ from pathtracedvolume import scene  # noqa: E402 (the project's scene set-up)
 from pathtracedvolume.metrics import quality, tonemap  # noqa: E402,F401 (the project's metrics)
 
 PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
-          "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage"]
+          "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage",
+          "Footprint"]
 BACKGROUND = scene.BACKGROUND
 STAGES = ("features", "guidenet", "splat", "slice", "alpha")
 SHIPPED_MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"
@@ -131,8 +132,9 @@ make_property = scene.volume_property
 
 class BenchScene(scene.Scene):
     """:class:`pathtracedvolume.scene.Scene` as the benchmarks use it: path traced, Denoise
-    off (they denoise the passes themselves) with the Coverage pass traced as the mapper traces
-    it for the shipped model (ComputeCoverage), a view at ``azimuth`` 30 and ``elevation`` 10
+    off (they denoise the passes themselves) with the Coverage and Footprint passes traced as the
+    mapper traces them when it denoises with the shipped model (ComputeCoverage,
+    ComputeFootprint), a view at ``azimuth`` 30 and ``elevation`` 10
     by default, the mapper's default key light times ``light_intensity``; :meth:`render` starts
     a fresh accumulation with a seed."""
 
@@ -144,6 +146,7 @@ class BenchScene(scene.Scene):
                          threads=threads, background=background)
         self.mapper.SetLightIntensity(float(light_intensity))
         self.mapper.ComputeCoverageOn()
+        self.mapper.ComputeFootprintOn()
 
     def orbit(self, azimuth: float, elevation: float = 10.0, dolly: float = 1.0) -> None:
         """Another view (:func:`pathtracedvolume.scene.place_camera`)."""

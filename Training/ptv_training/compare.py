@@ -113,9 +113,9 @@ def paper_view(dataset: str, size: int, camera: int, reference_spp: int,
         view = {"dataset": dataset, "transfer_function": paper_preset(dataset),
                 "azimuth": azimuth, "elevation": elevation}
         scene = Scene(dataset, (size, size))
-        scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=1)
+        scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=1, footprint=True)
         scene.render(1)
-        arrays = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES}
+        arrays = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES + ("Footprint",)}
         scene.set_view(view, seed=PAPER_SEEDS[1], max_frames=reference_spp, coverage=False)
         if scene.render(reference_spp) != reference_spp:
             raise RuntimeError(f"{path.name}: the reference did not accumulate")

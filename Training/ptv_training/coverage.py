@@ -1,5 +1,5 @@
-"""CLI: the Coverage pass for views rendered before it existed, and the study of GuideNet's
-``coverage`` channel.
+"""CLI: the Coverage (or Footprint) pass for views rendered before it existed, and the study of
+GuideNet's ``coverage`` channel.
 
 At one sample a camera ray has an event with the probability of its opacity c and stores Alpha
 1, else 0, so the 1-spp Alpha of a fog and of a solid are both 0 or 1. The mapper's Coverage
@@ -16,6 +16,9 @@ accumulations must come out bit-identical (else the file is left alone and repor
 again with its own command), and the Coverage channels are added (``coverage.A``,
 ``spp<k>.coverage.A``; atomic write, new digest). Likewise the 1-frame passes of
 ``compare.py``'s Table-1 views (``--paper-cache``, ``.npz``). Files that have it are skipped.
+With ``--pass Footprint`` the same for the Footprint pass (``ComputeFootprint``: 0 where the
+denoiser keeps a pixel black), which only the evaluation views (``heldout.py``, ``compare.py``)
+carry.
 
 ``compare``: trained runs (``best.pt``) in torch (``train.run_model``, the C++ path's numbers to
 1e-4) on the validation views, the Table-1 views and the held-out views, each at the level count
@@ -47,27 +50,31 @@ from pathtracedvolume.atomic import write_text  # noqa: E402
 from . import exr_io  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
-PASS = "Coverage"
+PASSES = ("Coverage", "Footprint")
 
 
-def render_inputs(scene: Any, view: Mapping[str, Any], seed: int, spps: Sequence[int]
-                  ) -> Dict[int, Dict[str, np.ndarray]]:
-    """Every input pass (``exr_io.INPUT_PASSES``, Coverage included) after each of ``spps``
-    frames of ``seed``, as ``generate.render_view`` renders them (VTK row order)."""
-    scene.set_view(view, seed=seed, denoise=False, max_frames=max(spps))
+def render_inputs(scene: Any, view: Mapping[str, Any], seed: int, spps: Sequence[int],
+                  footprint: bool = False) -> Dict[int, Dict[str, np.ndarray]]:
+    """Every input pass (``exr_io.INPUT_PASSES``, Coverage included, and with ``footprint`` the
+    Footprint pass) after each of ``spps`` frames of ``seed``, as ``generate.render_view``
+    renders them (VTK row order)."""
+    scene.set_view(view, seed=seed, denoise=False, max_frames=max(spps), footprint=footprint)
+    names = exr_io.INPUT_PASSES + (("Footprint",) if footprint else ())
     out: Dict[int, Dict[str, np.ndarray]] = {}
     frames = 0
     for spp in sorted(spps):
         if scene.render(spp - frames) != spp:
             raise RuntimeError(f"accumulated another frame count than {spp}")
         frames = spp
-        out[spp] = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES}
+        out[spp] = {name: scene.get_pass(name) for name in names}
     return out
 
 
-def mismatch(stored: Mapping[str, np.ndarray], rendered: Mapping[str, np.ndarray]) -> List[str]:
-    """The stored passes that the new rendering does not reproduce bit for bit."""
-    return [name for name, image in stored.items() if name != PASS and
+def mismatch(stored: Mapping[str, np.ndarray], rendered: Mapping[str, np.ndarray],
+             added: str = "Coverage") -> List[str]:
+    """The stored passes (but ``added``) that the new rendering does not reproduce bit for
+    bit."""
+    return [name for name, image in stored.items() if name != added and
             not np.array_equal(np.asarray(image, np.float32).reshape(rendered[name].shape),
                                rendered[name])]
 
@@ -84,9 +91,10 @@ def paper_view_parameters(path: Path) -> Dict[str, Any]:
             "azimuth": azimuth, "elevation": elevation}
 
 
-def add_coverage(files: Sequence[Path], paper_cache: Optional[Path]) -> Dict[str, List[str]]:
-    """Add the Coverage pass to the files that lack it; returns the files added, kept and
-    refused (a stored pass not reproduced)."""
+def add_pass(files: Sequence[Path], paper_cache: Optional[Path],
+             added: str = "Coverage") -> Dict[str, List[str]]:
+    """Add the pass ``added`` (Coverage or Footprint) to the files that lack it; returns the
+    files added, kept and refused (a stored pass not reproduced)."""
     from tqdm import tqdm
 
     from pathtracedvolume.atomic import atomic_path
@@ -99,10 +107,11 @@ def add_coverage(files: Sequence[Path], paper_cache: Optional[Path]) -> Dict[str
         jobs += [("paper", f) for f in sorted(paper_cache.glob("*_*_*_*.npz"))]
     result: Dict[str, List[str]] = {"added": [], "kept": [], "refused": []}
     scenes: Dict[tuple, Scene] = {}
-    for kind, f in tqdm(jobs, desc="coverage", unit="view"):
+    channel = exr_io.ALL_PASS_CHANNELS[added][0]
+    for kind, f in tqdm(jobs, desc=added, unit="view"):
         if kind == "view":
             channels, header = exr_io.read_exr(f)
-            if exr_io.PASS_CHANNELS[PASS][0] in channels:
+            if channel in channels:
                 result["kept"].append(str(f))
                 continue
             view = exr_io.view_attribute(header) or {}
@@ -110,12 +119,12 @@ def add_coverage(files: Sequence[Path], paper_cache: Optional[Path]) -> Dict[str
             size = tuple(int(v) for v in view.get("size", (256, 256)))
             stored = {spp: {name: np.stack([channels[exr_io.spp_prefix(spp) + c][::-1]
                                             for c in chans], -1)
-                            for name, chans in exr_io.PASS_CHANNELS.items() if name != PASS}
+                            for name, chans in exr_io.PASS_CHANNELS.items() if name != added}
                       for spp in spps}
         else:
             with np.load(f) as z:
                 arrays = {k: z[k] for k in z.files}
-            if PASS in arrays:
+            if added in arrays:
                 result["kept"].append(str(f))
                 continue
             view = paper_view_parameters(f)
@@ -125,22 +134,22 @@ def add_coverage(files: Sequence[Path], paper_cache: Optional[Path]) -> Dict[str
         key = (view["dataset"], size)
         if key not in scenes:
             scenes[key] = Scene(view["dataset"], size)
-        rendered = render_inputs(scenes[key], view, seed, spps)
-        bad = [f"{spp} spp {name}" for spp in spps for name in mismatch(stored[spp],
-                                                                         rendered[spp])]
+        rendered = render_inputs(scenes[key], view, seed, spps, added == "Footprint")
+        bad = [f"{spp} spp {name}" for spp in spps
+               for name in mismatch(stored[spp], rendered[spp], added)]
         if bad:
             result["refused"].append(f"{f}: {', '.join(bad)} not reproduced")
             continue
         if kind == "view":
             for spp in spps:
-                channels[exr_io.spp_prefix(spp) + exr_io.PASS_CHANNELS[PASS][0]] = \
-                    np.ascontiguousarray(rendered[spp][PASS][::-1, :, 0])
+                channels[exr_io.spp_prefix(spp) + channel] = \
+                    np.ascontiguousarray(rendered[spp][added][::-1, :, 0])
             attributes = {k: v.decode() if isinstance(v, bytes) else str(v)
                           for k, v in header.items()
                           if k.startswith("ptv.") and k != exr_io.DIGEST_ATTRIBUTE}
             exr_io.write_exr(f, channels, attributes)
         else:
-            arrays[PASS] = rendered[1][PASS]
+            arrays[added] = rendered[1][added]
             with atomic_path(f) as tmp:
                 with open(tmp, "wb") as fh:
                     np.savez(fh, **arrays)
@@ -242,6 +251,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("add", help="add the Coverage pass to view files rendered before it")
     r.add_argument("files", type=Path, nargs="*", help="view EXR files")
+    r.add_argument("--pass", dest="added", choices=PASSES, default="Coverage",
+                   help="the pass to add (default Coverage)")
     r.add_argument("--paper-cache", type=Path,
                    default=REPO_ROOT / ".cache" / "training" / "paper_views",
                    help="compare.py's Table-1 views (default .cache/training/paper_views)")
@@ -266,10 +277,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         ensure_paths()
         start = time.perf_counter()
         files = [f for f in args.files if not f.name.endswith((".cov.exr", ".hist.exr"))]
-        result = add_coverage(files, args.paper_cache)
+        result = add_pass(files, args.paper_cache, args.added)
         for line in result["refused"]:
             print(f"coverage.py: refused {line}", file=sys.stderr)
-        print(f"coverage.py: Coverage added to {len(result['added'])} files, "
+        print(f"coverage.py: {args.added} added to {len(result['added'])} files, "
               f"{len(result['kept'])} had it, {len(result['refused'])} refused, "
               f"{time.perf_counter() - start:.0f} s")
         return 1 if result["refused"] else 0

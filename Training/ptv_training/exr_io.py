@@ -13,10 +13,15 @@ Channel names follow the EXR conventions (``R,G,B``; ``albedo.R``; ``N.X``; ``Z`
     ScatterPosition                    scatter.P.X/Y/Z            spp<k>.scatter.P.X/Y/Z
     ScatterNormal                      scatter.N.X/Y/Z            spp<k>.scatter.N.X/Y/Z
     Coverage                           coverage.A                 spp<k>.coverage.A
+    Footprint (optional)               footprint.A                spp<k>.footprint.A
 
 plus radiance-only images: ``reference.R/G/B`` (R spp, an independent seed), ``reference_half.*``
 (the first R/2 of those frames, for the convergence check) and ``spp16.*`` (16 spp from the
 inputs' seed: the "16 spp" baseline; its first 1/2/4 frames are the inputs).
+
+The Footprint pass (the denoiser keeps the pixels it marks empty black) is stored where it was
+rendered -- the evaluation views of ``heldout.py`` and ``compare.py`` -- and is not required:
+GuideNet does not read it, so the training views do without it.
 
 Rows: EXR stores the top row first; VTK's passes are bottom row first. Files hold the image the
 usual way up (top first); :func:`read_view` returns arrays in VTK order (row 0 = bottom), the
@@ -50,6 +55,9 @@ PASS_CHANNELS: Dict[str, Tuple[str, ...]] = {
     "Coverage": ("coverage.A",),
 }
 INPUT_PASSES: Tuple[str, ...] = tuple(PASS_CHANNELS)
+#: passes a view file may hold (written and read when present, never required)
+OPTIONAL_PASS_CHANNELS: Dict[str, Tuple[str, ...]] = {"Footprint": ("footprint.A",)}
+ALL_PASS_CHANNELS: Dict[str, Tuple[str, ...]] = {**PASS_CHANNELS, **OPTIONAL_PASS_CHANNELS}
 INPUT_SPP: Tuple[int, ...] = (1, 2, 4)
 #: radiance-only images: key -> channel prefix
 RADIANCE_IMAGES: Dict[str, str] = {"reference": "reference.", "reference_half": "reference_half.",
@@ -83,9 +91,12 @@ def _as_hwc(a: np.ndarray) -> np.ndarray:
 
 def pack_passes(passes: Mapping[str, np.ndarray], prefix: str) -> Dict[str, np.ndarray]:
     """EXR channels ``prefix + channel`` (top row first) of every pass of
-    :data:`PASS_CHANNELS`, each ``(H, W[, C])`` in VTK row order."""
+    :data:`PASS_CHANNELS` and those of :data:`OPTIONAL_PASS_CHANNELS` in ``passes``, each
+    ``(H, W[, C])`` in VTK row order."""
     out: Dict[str, np.ndarray] = {}
-    for name, chans in PASS_CHANNELS.items():
+    for name, chans in ALL_PASS_CHANNELS.items():
+        if name in OPTIONAL_PASS_CHANNELS and name not in passes:
+            continue
         a = _as_hwc(passes[name])
         if a.shape[2] != len(chans):
             raise ValueError(f"pass {name} has {a.shape[2]} components, expected {len(chans)}")
@@ -95,10 +106,11 @@ def pack_passes(passes: Mapping[str, np.ndarray], prefix: str) -> Dict[str, np.n
 
 
 def unpack_passes(channels: Mapping[str, np.ndarray], prefix: str) -> Dict[str, np.ndarray]:
-    """The passes of :data:`PASS_CHANNELS` stored under ``prefix`` (:func:`pack_passes`), each
-    ``(H, W, C)`` in VTK row order."""
+    """The passes of :data:`PASS_CHANNELS` stored under ``prefix`` (:func:`pack_passes`), and
+    those of :data:`OPTIONAL_PASS_CHANNELS` the file has, each ``(H, W, C)`` in VTK row order."""
     return {name: np.ascontiguousarray(np.stack([channels[prefix + c][::-1] for c in chans], -1))
-            for name, chans in PASS_CHANNELS.items()}
+            for name, chans in ALL_PASS_CHANNELS.items()
+            if name in PASS_CHANNELS or all(prefix + c in channels for c in chans)}
 
 
 def digest_matches(channels: Mapping[str, np.ndarray], header: Mapping[str, object]) -> bool:

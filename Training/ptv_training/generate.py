@@ -160,13 +160,16 @@ def view_parameters(dataset: str, index: int, seed: int, size: int, reference_sp
     return view
 
 
-def render_view(scene: Scene, view: Dict[str, Any]) -> Dict[str, Any]:
-    """Render one view: (channels for the EXR, timings, statistics)."""
+def render_view(scene: Scene, view: Dict[str, Any], footprint: bool = False) -> Dict[str, Any]:
+    """Render one view: (channels for the EXR, timings, statistics); with ``footprint`` the
+    inputs include the Footprint pass (evaluation views)."""
     timings: Dict[str, float] = {}
     inputs: Dict[int, Dict[str, np.ndarray]] = {}
+    names = exr_io.INPUT_PASSES + (("Footprint",) if footprint else ())
     t0 = time.perf_counter()
     scene.set_view(view, seed=view["input_seed"], denoise=False,
-                   max_frames=max(view["baseline_spp"], max(view["input_spp"])))
+                   max_frames=max(view["baseline_spp"], max(view["input_spp"])),
+                   footprint=footprint)
     frames = 0
     for spp in sorted(set(view["input_spp"]) | {view["baseline_spp"]}):
         got = scene.render(spp - frames)
@@ -174,7 +177,7 @@ def render_view(scene: Scene, view: Dict[str, Any]) -> Dict[str, Any]:
         if got != spp:
             raise RuntimeError(f"accumulated {got} frames, expected {spp} (accumulation reset?)")
         if spp in view["input_spp"]:
-            inputs[spp] = {name: scene.get_pass(name) for name in exr_io.INPUT_PASSES}
+            inputs[spp] = {name: scene.get_pass(name) for name in names}
         if spp == view["baseline_spp"]:
             spp16 = scene.get_pass("Radiance")
     timings["inputs_s"] = time.perf_counter() - t0

@@ -5,11 +5,11 @@ For every dataset (default: all of ``Data/datasets.json``) and each held-out sha
 :func:`ptv_training.transfer.held_out_transfer_functions` (translucent, smooth, narrow), the
 first ``--views`` of two fixed cameras (azimuth 30, elevation 10; azimuth 210, elevation 25; a
 key light up and to the right of the camera, the default background) are rendered once at
-``--size`` squared like a training view (``generate.render_view``: 1/2/4-spp passes, a
-``--reference-spp`` reference of an independent seed and its first half for the convergence
-check) and kept as EXR files in ``--views-dir`` (rerun: verified and reused). Each model given
-(``--model``, default the shipped one) then denoises the 1-spp passes through the C++
-``vtkPTVDenoiser``, and OIDN RT fast (``pyoidn``, HDR colour + albedo + normal) the same passes.
+``--size`` squared like a training view (``generate.render_view``: 1/2/4-spp passes, with
+the Footprint pass that the mapper gives its denoiser, a ``--reference-spp`` reference of an
+independent seed and its first half for the convergence check) and kept as EXR files in
+``--views-dir`` (rerun: verified and reused). Each model given (``--model``, default the
+shipped one) then denoises the 1-spp passes through the C++ ``vtkPTVDenoiser``, and OIDN RT fast (``pyoidn``, HDR colour + albedo + normal) the same passes.
 
 Reported per (shape, dataset): PSNR and SSIM of noisy 1 spp, each model and OIDN fast against the
 reference (tone-mapped ``clip(max(0, x)^(1/2.2), 0, 1)``, scikit-image, data_range 1), and
@@ -96,7 +96,7 @@ def ensure_views(args: argparse.Namespace) -> List[Path]:
             continue
         if scene is None or scene.dataset != dataset:
             scene = Scene(dataset, (args.size, args.size))
-        result = render_view(scene, view)
+        result = render_view(scene, view, footprint=True)
         exr_io.write_exr(path, result["channels"], {exr_io.VIEW_ATTRIBUTE: json.dumps(view)})
     return files
 

@@ -121,10 +121,12 @@ class Scene:
         self._keep: list = []
 
     def set_view(self, view: Mapping[str, Any], seed: int = 0, denoise: bool = False,
-                 max_frames: int = 1024, coverage: bool = True) -> Any:
+                 max_frames: int = 1024, coverage: bool = True, footprint: bool = False) -> Any:
         """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper. With
         ``coverage`` the mapper traces the Coverage pass (ComputeCoverage; a reference's
-        radiance does not need it, and it changes no other pass)."""
+        radiance does not need it, and it changes no other pass), with ``footprint`` the
+        Footprint pass (ComputeFootprint: evaluation views, which the denoiser reads as the
+        mapper's frame loop gives it; it changes no other pass either)."""
         from pathtracedvolume import vtkPathTracedVolumeMapper
         from pathtracedvolume.presets import find_preset
         from pathtracedvolume.scene import BACKGROUND, place_camera, volume_property
@@ -150,6 +152,7 @@ class Scene:
         mapper.SetMaximumAccumulatedFrames(int(max_frames))
         mapper.SetDenoise(bool(denoise))
         mapper.SetComputeCoverage(bool(coverage))  # GuideNet's "coverage" channel
+        mapper.SetComputeFootprint(bool(footprint))  # the denoiser's empty pixels
         if self.threads:
             mapper.SetNumberOfThreads(int(self.threads))
         volume = vtkVolume()

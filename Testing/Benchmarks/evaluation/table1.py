@@ -104,12 +104,13 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
                  ) -> Tuple[float, float, Dict[str, Dict[str, Any]]]:
     """The 1-spp trace (a fresh frame, the tracer's own time) and every denoiser on view 0's
     passes in the same rounds (pb.interleaved: a slow spell of the shared machine slows them
-    alike), one warm-up round, then ``rounds``: (median trace ms without the Coverage pass,
-    the same with it where our model reads it -- the mapper then traces it, and only then --,
-    per denoiser the row of pb.run_ours / pb.run_oidn with medians over the rounds). Every
-    denoiser runs right after a trace, as in a frame (ours after a trace with the Coverage pass
-    when its model reads it, the others after one without): the trace leaves the caches to the
-    volume, and a denoiser timed after another denoiser would find its own buffers warm."""
+    alike), one warm-up round, then ``rounds``: (median trace ms without the Coverage and
+    Footprint passes, the same with what the mapper traces when it denoises -- the Coverage pass
+    where our model reads it, the Footprint pass (DenoiserFootprint, on by default) --, per
+    denoiser the row of pb.run_ours / pb.run_oidn with medians over the rounds). Every denoiser
+    runs right after a trace, as in a frame (ours after a trace with those passes, the others
+    after one without): the trace leaves the caches to the volume, and a denoiser timed after
+    another denoiser would find its own buffers warm."""
     import statistics
 
     a = bench.args
@@ -118,9 +119,10 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     reads = "coverage" in pb.model_props(a.model)["ptv.input_channels"].split(",")
     traced: Dict[bool, List[float]] = {False: [], True: []}
 
-    def trace(coverage: bool) -> None:
-        scene.mapper.SetComputeCoverage(coverage)
-        traced[coverage].append(scene.render(next(seeds), 1)[0])
+    def trace(ours_frame: bool) -> None:
+        scene.mapper.SetComputeCoverage(ours_frame and reads)
+        scene.mapper.SetComputeFootprint(ours_frame)
+        traced[ours_frame].append(scene.render(next(seeds), 1)[0])
 
     ours = {m: pb.Ours(lv, a.model, a.threads)
             for m, lv in ((EVERY, pb.model_levels(a.model)), ("ours", 0))}
@@ -130,7 +132,7 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     denoisers.update({m: (lambda o=o: o.execute(copy=False)) for m, o in ours.items()})
     calls: Dict[str, Any] = {}
     for m, call in denoisers.items():
-        calls[f"trace before {m}"] = lambda c=reads and m in ours: trace(c)
+        calls[f"trace before {m}"] = lambda c=m in ours: trace(c)
         calls[m] = call
     runs = pb.interleaved(calls, rounds, {m: o.stages for m, o in ours.items()})
     den: Dict[str, Dict[str, Any]] = {}
@@ -143,11 +145,12 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
             row.update({k: statistics.median(e[k] for e in run["extra"]) for k in pb.STAGES})
             row.update(status=ours[m].status(), kernels=ours[m].kernel_target())
         den[m] = row
-    per_round = {c: sum(1 for m in denoisers if (reads and m in ours) == c) for c in traced}
+    per_round = {c: sum(1 for m in denoisers if (m in ours) == c) for c in traced}
     plain, marched = (statistics.median(traced[c][per_round[c]:])  # without the warm-up round's
                       if per_round[c] else float("nan") for c in (False, True))
     scene.mapper.SetComputeCoverage(True)  # as the scene was
-    return plain, marched if reads else plain, den
+    scene.mapper.SetComputeFootprint(True)
+    return plain, marched, den
 
 
 def speedup(sweep: Sequence[Mapping[str, Any]], method: Mapping[str, Any],
@@ -244,7 +247,8 @@ def markdown(a: argparse.Namespace, summary: Sequence[Mapping[str, Any]],
           f" PSNR/SSIM = mean over the views against a {a.ref_spp}-spp reference of an "
           f"independent seed. Time per frame: N spp = N × the median 1-spp trace time; "
           f"denoisers = 1-spp trace (ours: with the Coverage pass, which the mapper traces "
-          f"when the model reads it; the others without) + the median denoise time (ours: "
+          f"when the model reads it, and the Footprint pass, which it traces when it denoises; "
+          f"the others without) + the median denoise time (ours: "
           f"vtkPTVDenoiser with the shipped model; OIDN: pyoidn RT filter, HDR colour + albedo "
           f"+ normal), "
           f"all on the same 1-spp passes, view 0; every denoiser right after a 1-spp trace (a "
