@@ -29,6 +29,7 @@
 // result, 0 where that missed -- a layer the reference shows, which the denoiser would clear.
 
 #include "Kernels/ptvIntegrator.h"
+#include "ptvTestKernelCamera.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -74,19 +75,7 @@ void MakeEdgeVolume(EdgeVolume& v)
   p.Transfer.ScalarMin = kEdge; // below it: entry 0, transparent
   p.Transfer.ScalarMax = 63.f;
   p.Occupancy.Distance = nullptr;
-  const float ndc[16] = { 1.f, 0.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 1.5f, 0.5f, 0.f, 0.f,
-    0.f, 1.f }; // NDC z = -1 -> world z = -1, z = +1 -> z = 2
-  for (int i = 0; i < 16; ++i)
-  {
-    p.Camera.WorldFromNdc[i] = ndc[i];
-  }
-  p.Camera.Eye = ptv::MakeVec3(0.f, 0.f, -1.f);
-  p.Camera.Parallel = 1;
-  p.Camera.Width = kImage;
-  p.Camera.Height = kImage;
-  p.Camera.FarDistance = 100.f;
-  p.KeyLight.Positional = 0;
-  p.KeyLight.Direction = ptv::MakeVec3(0.f, 0.f, 1.f);
+  OrthographicAlongZ(p, kImage);
   p.KeyLight.Radiance = ptv::MakeVec3(1.f, 1.f, 1.f);
   p.StepWorld = 0.02f;
   p.ShadowStepScale = 2.f;

@@ -34,6 +34,7 @@
 // Also: opacity correction composition, step-table lookups, sampling moments (3 SE), the Duff
 // et al. basis, and trilinear sampling / gradient / NormalToWorld on a linear field.
 #include "Kernels/ptvIntegrator.h"
+#include "ptvTestKernelCamera.h"
 
 #include <algorithm>
 #include <cmath>
@@ -106,19 +107,7 @@ void MakeSlab(Slab& s)
   p.Transfer.ScalarMin = 0.f;
   p.Transfer.ScalarMax = 2.f;
   p.Occupancy.Distance = nullptr;
-  const float ndc[16] = { 1.f, 0.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 1.5f, 0.5f, 0.f, 0.f,
-    0.f, 1.f }; // NDC z = -1 -> world z = -1, z = +1 -> z = 2
-  for (int i = 0; i < 16; ++i)
-  {
-    p.Camera.WorldFromNdc[i] = ndc[i];
-  }
-  p.Camera.Eye = ptv::MakeVec3(0.f, 0.f, -1.f);
-  p.Camera.Parallel = 1;
-  p.Camera.Width = kImage;
-  p.Camera.Height = kImage;
-  p.Camera.FarDistance = 100.f;
-  p.KeyLight.Positional = 0;
-  p.KeyLight.Direction = ptv::MakeVec3(0.f, 0.f, 1.f);
+  OrthographicAlongZ(p, kImage);
   p.StepWorld = static_cast<float>(kStep);
   p.ShadowStepScale = static_cast<float>(kShadowScale);
   p.UnitDistance = static_cast<float>(kUnit);
