@@ -311,7 +311,7 @@ public:
    * With Denoise, trace the "Footprint" pass (see ComputeFootprint) and keep the pixels it
    * marks empty space black (on, default), or do neither (off). At one sample the denoiser
    * otherwise spreads the colour of thin structures into the empty pixels around them; on the
-   * evaluation's views the pass adds 0.1-0.7 dB for 7-29 % of the trace time
+   * evaluation's views the pass adds 0.1-0.7 dB for 6-28 % of the trace time
    * (Testing/Benchmarks/results/footprint.md).
    */
   vtkSetMacro(DenoiserFootprint, bool);
