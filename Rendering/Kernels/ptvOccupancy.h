@@ -262,11 +262,7 @@ inline void BuildOccupancy(const TransferTable& tf, const int bricks[3], const f
   {
     // positive[i] = number of entries < i with opacity > 0: any opacity in [i0, i1] in O(1).
     std::vector<int> positive(static_cast<std::size_t>(tf.Size) + 1);
-    positive[0] = 0;
-    for (int i = 0; i < tf.Size; ++i)
-    {
-      positive[i + 1] = positive[i] + (tf.RGBA[4 * i + 3] > 0.f ? 1 : 0);
-    }
+    BuildOpaqueCounts(tf.RGBA, tf.Size, positive.data());
     for (int64_t b = 0; b < n; ++b)
     {
       const float lo = ranges[2 * b];

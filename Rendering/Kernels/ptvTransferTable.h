@@ -116,7 +116,8 @@ PTV_HD PTV_INLINE bool MayBeOpaque(const TransferTable& tf, float a, float b)
   return tf.OpaqueBefore[i1 + 1] > tf.OpaqueBefore[i0];
 }
 
-/// OpaqueBefore of @a size entries of @a rgba (size + 1 counts into @a counts).
+/// OpaqueBefore of @a size entries of @a rgba (size + 1 counts into @a counts); the occupancy
+/// grid (BuildOccupancy) tests its bricks' scalar ranges with the same counts.
 inline void BuildOpaqueCounts(const float* rgba, int size, int* counts)
 {
   counts[0] = 0;
