@@ -1,5 +1,7 @@
 #include "ptvFrameLoop.h"
 
+#include "ptvEdgeSamples.h"
+
 #include "ptvKernelDispatch.h"
 
 #include "vtkImageData.h"
@@ -229,6 +231,10 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   this->Frame.Resize(this->Params.Camera.Width, this->Params.Camera.Height);
   const int samples = request.Scene.SamplesPerFrame;
   const unsigned int firstSample = this->Parallel.FirstSample(this->SampleFrames, samples);
+  // Edge samples when the frame is denoised (process 0 decides) or asked for.
+  const int edgeSamples = this->Parallel.Agree(
+    request.ComputeEdgeSamples || (request.Denoise && this->Parallel.Shows()) ? request.EdgeSamples
+                                                                                : 1);
   std::string problem;
   this->Params.PieceStream = this->Parallel.PieceStream();
   const PieceView piece = this->Inputs.GetPieceView(this->Params);
@@ -259,6 +265,21 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     // Several processes: process 0 gets the whole frame (their mean, or their pieces
     // composited) and accumulates it; the others only trace.
     keep = this->Parallel.GatherFrame(this->Frame, kTracedPassCount, piece, request.Threads);
+  }
+  // The volume's edges for the denoiser, on the whole frame: process 0 (which holds the whole
+  // volume unless it is distributed) traces them for the samples of every process, which are
+  // one block from its own first sample on (Ranks::FirstSample), so N processes give the frame
+  // of one with N times the samples. Not for distributed pieces, whose samples are composited
+  // one by one (above).
+  this->LastEdgeFraction = 0.0;
+  if (keep && edgeSamples > 1 && !(this->Parallel.IsDistributed() && this->Parallel.IsParallel()))
+  {
+    FindEdgePixels(this->Frame.Data(PassCoverage), this->Frame.GetWidth(),
+      this->Frame.GetHeight(), request.Threads, this->EdgePixels);
+    TraceEdgeSamples(this->Params, firstSample, samples * this->Parallel.GetSize(), edgeSamples,
+      this->EdgePixels, request.Threads, UsePortableKernels(false), this->Frame);
+    this->LastEdgeFraction = static_cast<double>(this->EdgePixels.size()) /
+      (static_cast<double>(this->Frame.GetWidth()) * this->Frame.GetHeight());
   }
   if (!problem.empty() && problem != this->BackendProblem)
   {

@@ -7,7 +7,8 @@
  *  1. ptvFrameInputs -- the VTK scene (voxels, tables, camera, light, opaque geometry) becomes the
  *     kernel's plain structs and a signature of everything that changes the image;
  *  2. ptvTracerRunner -- the frame is traced on the CUDA device or the CPU (ptvCpuTracer runs
- *     Kernels/ptvIntegrator.h per pixel);
+ *     Kernels/ptvIntegrator.h per pixel); ptvEdgeSamples -- a frame to be denoised gets more
+ *     samples on the volume's edges (EdgeSamples);
  *  3. ptvPassBuffers -- the frame joins the running mean of the named passes (a changed scene
  *     restarts it); ptvReprojection -- when only the view moved, the mean of the previous view
  *     is carried into the new one first (per-pixel history, capped at MaximumHistory);
@@ -39,6 +40,7 @@
 #include "ptvShownImage.h"
 #include "ptvTracerRunner.h"
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
@@ -64,6 +66,10 @@ struct FrameRequest
   int Threads = 0;                   ///< <= 0: every core
   int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
   bool Denoise = true;
+  /// Samples per frame sample at the volume's edge pixels (ptvEdgeSamples.h; 1: none), traced
+  /// when the frame is denoised or with ComputeEdgeSamples.
+  int EdgeSamples = 2;
+  bool ComputeEdgeSamples = false;
   DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Footprint, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance
   /// A still render: trace frames until the estimated quality of what is shown reaches
@@ -109,6 +115,8 @@ public:
   int GetAccumulatedFrames() const { return this->AccumulatedFrames; }
   /// Fraction of the volume's pixels that kept a history when the view last moved (0: none).
   double GetReprojectionReuse() const { return this->History.GetReusedFraction(); }
+  /// Fraction of the pixels that got EdgeSamples in the last traced frame (0: none).
+  double GetLastEdgeFraction() const { return this->LastEdgeFraction; }
   /// Milliseconds the last Render spent reprojecting (0 when the view did not move).
   double GetLastReprojectionTime() const { return this->LastReprojectionTime; }
   /// Frames traced by the last Render (0, 1, or more for a still render).
@@ -159,12 +167,14 @@ private:
   ShownImage Shown;
   Display Drawing;
   std::vector<float> ZBuffer;
+  std::vector<std::uint32_t> EdgePixels; ///< the last frame's (ptvEdgeSamples.h)
   std::vector<float> ConvergedAlpha; ///< the opacity the Converged pass is drawn with
 
   int AccumulatedFrames = 0;
   unsigned int SampleFrames = 0; ///< frames since the last reset: the sample index
   int LastViewFrames = 0;        ///< AccumulatedFrames after the last trace
   double LastReprojectionTime = 0.0;
+  double LastEdgeFraction = 0.0;
   int LastRenderFrames = 0;
   double EstimatedQuality = 0.0;
   bool StillConverged = false;

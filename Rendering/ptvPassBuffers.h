@@ -87,6 +87,30 @@ PTV_HD PTV_INLINE void StoreSample(const TracedPassPlanes& planes, std::size_t p
   planes.Data[PassFootprint][pixel] = s.Footprint;
 }
 
+/// Read a 3-component pass at pixel @a pixel.
+PTV_HD PTV_INLINE Vec3 LoadVec3(const float* plane, std::size_t pixel)
+{
+  return MakeVec3(plane[3 * pixel + 0], plane[3 * pixel + 1], plane[3 * pixel + 2]);
+}
+
+/// The sample StoreSample() wrote at pixel index @a pixel (a frame's mean of its samples).
+PTV_HD PTV_INLINE PixelSample LoadSample(const TracedPassPlanes& planes, std::size_t pixel)
+{
+  PixelSample s;
+  s.Radiance = LoadVec3(planes.Data[PassRadiance], pixel);
+  s.Alpha = planes.Data[PassAlpha][pixel];
+  s.Albedo = LoadVec3(planes.Data[PassAlbedo], pixel);
+  s.Depth1 = planes.Data[PassDepth][pixel];
+  s.Position1 = LoadVec3(planes.Data[PassPosition], pixel);
+  s.Normal1 = LoadVec3(planes.Data[PassNormal], pixel);
+  s.Depth2 = planes.Data[PassScatterDepth][pixel];
+  s.Position2 = LoadVec3(planes.Data[PassScatterPosition], pixel);
+  s.Normal2 = LoadVec3(planes.Data[PassScatterNormal], pixel);
+  s.Coverage = planes.Data[PassCoverage][pixel];
+  s.Footprint = planes.Data[PassFootprint][pixel];
+  return s;
+}
+
 /// Whether @a depth (a Depth or ScatterDepth value) is a hit for the far distance @a far
 /// (kHitFraction: Kernels/ptvTraceParams.h).
 inline bool IsHit(float depth, float far)

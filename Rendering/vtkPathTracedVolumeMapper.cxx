@@ -419,6 +419,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
     request.Backend = this->Backend;
     request.Denoise = this->Denoise;
+    request.EdgeSamples = this->EdgeSamples;
+    request.ComputeEdgeSamples = this->ComputeEdgeSamples;
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
     request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
     request.Denoiser.Footprint = this->DenoiserFootprint;
@@ -468,6 +470,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastDenoiseTime = loop.GetLastDenoiseTime();
   this->ReprojectionReuse = loop.GetReprojectionReuse();
   this->LastReprojectionTime = loop.GetLastReprojectionTime();
+  this->LastEdgeFraction = loop.GetLastEdgeFraction();
 }
 
 //------------------------------------------------------------------------------
@@ -505,6 +508,8 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Scattering: " << this->Scattering << "\n";
   os << indent << "ComputeCoverage: " << this->ComputeCoverage << "\n";
   os << indent << "ComputeFootprint: " << this->ComputeFootprint << "\n";
+  os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
+  os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";

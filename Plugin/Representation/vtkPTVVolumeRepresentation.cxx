@@ -418,6 +418,12 @@ void vtkPTVVolumeRepresentation::SetDenoiserFootprint(bool value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetEdgeSamples(int value)
+{
+  this->GetPathTracedMapper()->SetEdgeSamples(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
 {
   this->GetPathTracedMapper()->SetDenoiserNumberOfLevels(value);

@@ -79,6 +79,7 @@ public:
   void SetDenoiserModelFile(const char* path);
   void SetDenoiserUseNetwork(bool value);
   void SetDenoiserFootprint(bool value);
+  void SetEdgeSamples(int value);
   void SetDenoiserNumberOfLevels(int value);
   ///@}
 

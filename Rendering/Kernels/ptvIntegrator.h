@@ -380,15 +380,19 @@ PTV_HD PTV_INLINE PTV_NOINLINE float CornerMeetsVolume(
 }
 
 /// TracePixel() without step 4d; @a near: the camera ray came near opacity (its march visited
-/// a sample of an occupied brick; always with isosurfaces and ExpectedCoverage).
-PTV_HD PTV_INLINE PixelSample TraceCameraRay(
-  const TraceParams& p, int x, int y, uint32_t pixel, uint32_t frame, bool& near)
+/// a sample of an occupied brick; always with isosurfaces and ExpectedCoverage). @a jitter,
+/// when given, replaces the two jitter draws (which are still drawn: every later number is
+/// unchanged) with its (x, y) in [0, 1) (ptvEdgeSamples: a shifted lattice).
+PTV_HD PTV_INLINE PixelSample TraceCameraRay(const TraceParams& p, int x, int y, uint32_t pixel,
+  uint32_t frame, bool& near, const float* jitter = nullptr)
 {
   PixelSample out = MissSample(p.Camera.FarDistance);
   near = false;
   Rng rng = MakeRng(pixel, frame, p.Seed);
-  const float jx = NextFloat(rng);
-  const float jy = NextFloat(rng);
+  const float drawnX = NextFloat(rng);
+  const float drawnY = NextFloat(rng);
+  const float jx = jitter ? jitter[0] : drawnX;
+  const float jy = jitter ? jitter[1] : drawnY;
   float xi = NextFloat(rng);
   if (p.PieceStream != 0u)
   {

@@ -18,7 +18,8 @@ Checks, all against a 2048-spp 1-rank reference traced with another seed:
    (an early model, seeds 1-3), 0.28-0.63 dB (the PAPER_10 model at 1 level), 0.45 dB (its
    3 levels, this test's default at 128^2) and 0.74 dB (the coverage model, 2026-12-05, whose
    composited Coverage pass matches one rank's within the march's 0.01 cutoff). A wrong
-   composite (features, passes or order) costs several dB;
+   composite (features, passes or order) costs several dB. Split pieces get no edge samples
+   (EdgeSamples), so the 1-rank run has none either;
 4. every rank reports no error or warning; NumberOfSamplingRanks is N;
 5. a volume too small to give 4 ranks a piece each (mpi_tiny.py, 2 x 2 x 2 points) renders
    instead of hanging: it is replicated whatever the limit.
@@ -84,7 +85,8 @@ def main() -> int:
     one_low = compare("one_8spp", 1, *low)
     compare("ranks2_8spp", 2, *low, *SPLIT, baseline=one_low)
 
-    run(1, tmp / "one_denoised", *low, "--denoise", "1")
+    # A split volume's pieces get no edge samples (README, "Edge samples"): one rank without.
+    run(1, tmp / "one_denoised", *low, "--denoise", "1", "--edge-samples", "1")
     infos.append(run(2, tmp / "ranks2_denoised", *low, *SPLIT, "--denoise", "1"))
     ref_denoised = denoised(tmp / "reference" / "passes.exr")
     d_one = psnr(ref_denoised, denoised(tmp / "one_denoised" / "passes.exr"))

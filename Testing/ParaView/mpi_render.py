@@ -32,6 +32,8 @@ parser.add_argument("--ghost-layers", type=int, default=None,
                     help="GhostLayers of a volume split across ranks (default: the property's)")
 parser.add_argument("--seed", type=int, default=None, help="the representation's Seed")
 parser.add_argument("--denoise", type=int, default=0)
+parser.add_argument("--edge-samples", type=int, default=None,
+                    help="the representation's EdgeSamples (default its own)")
 parser.add_argument("--threads", type=int, default=0)
 parser.add_argument("--still-budget", type=float, default=0.0,
                     help="> 0: still renders converge (StillQuality 60 dB, never reached) for at "
@@ -63,6 +65,8 @@ if args.replicate_limit is not None:
     display.ReplicateVolumeLimit = args.replicate_limit
 if args.seed is not None:
     display.Seed = args.seed
+if args.edge_samples is not None:
+    display.EdgeSamples = args.edge_samples
 if args.ghost_layers is not None:
     display.GhostLayers = args.ghost_layers
 

@@ -280,6 +280,7 @@ def test_mapper_coverage_pass(tmp_path) -> None:
         mapper.SetComputeCoverage(compute)
         if model is not None:
             mapper.SetDenoiserModelFile(str(model))
+            mapper.SetEdgeSamples(1)  # the passes of the frame alone (test_edge_samples.py)
         mapper.SetMaximumAccumulatedFrames(frames)
         for _ in range(frames):
             window.Render()

@@ -1,0 +1,227 @@
+#include "ptvEdgeSamples.h"
+
+#include "ptvKernelDispatch.h"
+#include "ptvPassBuffers.h"
+#include "ptvThreads.h"
+
+#include "vtkType.h"
+
+#include <algorithm>
+
+namespace ptv
+{
+namespace
+{
+/// The stream of the extra samples: the frame's seed hashed with this ("EDGE").
+constexpr uint32_t kEdgeStream = 0x45444745u;
+
+/**
+ * (x, y) offsets in [0, 1) of @a count points that cover the unit square evenly, the first at
+ * (0, 0): an m x m grid when @a count is m squared, else the rank-1 lattice (k / count,
+ * k g / count mod 1) whose generator g has the largest distance between neighbouring points
+ * (on the torus). Shifted by a uniform random point, each is uniform over the pixel.
+ */
+std::vector<float> LatticeOffsets(int count)
+{
+  std::vector<float> out(2 * static_cast<std::size_t>(count), 0.f);
+  int m = 1;
+  while ((m + 1) * (m + 1) <= count)
+  {
+    ++m;
+  }
+  if (m * m == count)
+  {
+    for (int k = 0; k < count; ++k)
+    {
+      out[2 * k] = static_cast<float>(k % m) / static_cast<float>(m);
+      out[2 * k + 1] = static_cast<float>(k / m) / static_cast<float>(m);
+    }
+    return out;
+  }
+  int best = 1;
+  double bestDistance = -1.0;
+  for (int g = 1; g < count; ++g)
+  {
+    double nearest = 2.0;
+    for (int k = 1; k < count; ++k) // distance from point 0 (the lattice is a group)
+    {
+      double dx = static_cast<double>(k) / count;
+      double dy = static_cast<double>((k * g) % count) / count;
+      dx = std::min(dx, 1.0 - dx);
+      dy = std::min(dy, 1.0 - dy);
+      nearest = std::min(nearest, dx * dx + dy * dy);
+    }
+    if (nearest > bestDistance)
+    {
+      bestDistance = nearest;
+      best = g;
+    }
+  }
+  for (int k = 0; k < count; ++k)
+  {
+    out[2 * k] = static_cast<float>(k) / static_cast<float>(count);
+    out[2 * k + 1] = static_cast<float>((k * best) % count) / static_cast<float>(count);
+  }
+  return out;
+}
+
+/// The edge pixels [e0, e1) of @a edges. Inlined into both builds below, like ptvCpuTracer's
+/// tiles, so each compiles the whole estimator for its instruction set.
+inline void TraceEdges(const TraceParams& params, unsigned int firstSample, int samples,
+  int edgeSamples, const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
+  PassBuffers& frame)
+{
+  TraceParams p = params;
+  p.Seed = params.Seed ^ PcgHash(kEdgeStream);
+  const TracedPassPlanes planes = frame.Planes();
+  const uint32_t width = static_cast<uint32_t>(params.Camera.Width);
+  const float total = static_cast<float>(samples) * static_cast<float>(edgeSamples);
+  for (vtkIdType e = e0; e < e1; ++e)
+  {
+    const uint32_t pixel = edges[e];
+    const int x = static_cast<int>(pixel % width);
+    const int y = static_cast<int>(pixel / width);
+    PixelSample acc = LoadSample(planes, pixel);
+    ScaleSample(acc, static_cast<float>(samples)); // the frame's sum
+    // TracePixel's samples, with the corner ray's answer (the same for every sample of the
+    // pixel: it has no jitter) traced at most once.
+    float corner = -1.f;
+    for (int s = 0; s < samples; ++s)
+    {
+      const uint32_t frameSample = firstSample + static_cast<uint32_t>(s);
+      // The frame sample's own jitter (TraceCameraRay's first two draws), which the extra
+      // samples complete into a lattice shifted by it: each is uniform over the pixel, and
+      // together they cover it evenly.
+      Rng main = MakeRng(pixel, frameSample, params.Seed);
+      const float mx = NextFloat(main);
+      const float my = NextFloat(main);
+      const uint32_t base = frameSample * kMaxEdgeSamples;
+      for (int k = 1; k < edgeSamples; ++k)
+      {
+        const float sx = mx + offsets[2 * k];
+        const float sy = my + offsets[2 * k + 1];
+        const float jitter[2] = { sx < 1.f ? sx : sx - 1.f, sy < 1.f ? sy : sy - 1.f };
+        bool near;
+        PixelSample one =
+          TraceCameraRay(p, x, y, pixel, base + static_cast<uint32_t>(k), near, jitter);
+        if (p.FootprintRays)
+        {
+          const bool met = one.Depth1 < kHitFraction * p.Camera.FarDistance;
+          if (!met && near && corner < 0.f)
+          {
+            corner = CornerMeetsVolume(p, x, y, pixel);
+          }
+          one.Footprint = met ? 1.f : near ? corner : 0.f;
+        }
+        AddSample(acc, one);
+      }
+    }
+    ScaleSample(acc, 1.f / total);
+    StoreSample(planes, pixel, acc);
+  }
+}
+
+using EdgesFunction = void (*)(const TraceParams&, unsigned int, int, int, const float*,
+  const std::uint32_t*, vtkIdType, vtkIdType, PassBuffers&);
+
+#ifdef PTV_HAS_AVX2_BUILD
+PTV_AVX2_TARGET __attribute__((flatten)) void TraceEdgesAvx2(const TraceParams& params,
+  unsigned int firstSample, int samples, int edgeSamples, const float* offsets,
+  const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, PassBuffers& frame)
+{
+  TraceEdges(params, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+}
+#endif
+
+__attribute__((flatten)) void TraceEdgesBaseline(const TraceParams& params,
+  unsigned int firstSample, int samples, int edgeSamples, const float* offsets,
+  const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, PassBuffers& frame)
+{
+  TraceEdges(params, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+}
+
+EdgesFunction SelectEdges(bool portable)
+{
+#ifdef PTV_HAS_AVX2_BUILD
+  if (!portable && CpuHasAvx2())
+  {
+    return &TraceEdgesAvx2;
+  }
+#endif
+  (void)portable;
+  return &TraceEdgesBaseline;
+}
+}
+
+//------------------------------------------------------------------------------
+void FindEdgePixels(
+  const float* coverage, int width, int height, int threads, std::vector<std::uint32_t>& edges)
+{
+  edges.clear();
+  if (width <= 0 || height <= 0)
+  {
+    return;
+  }
+  const std::size_t w = static_cast<std::size_t>(width);
+  // Per pixel: 1 where its column of three (rows y-1..y+1) has a high value, 2 a low one.
+  std::vector<unsigned char> columns(w * static_cast<std::size_t>(height));
+  std::vector<unsigned char> mask(columns.size());
+  ParallelFor(threads, 0, height, 16,
+    [&](int y0, int y1)
+    {
+      for (int y = y0; y < y1; ++y)
+      {
+        const int ya = std::max(y - 1, 0), yb = std::min(y + 1, height - 1);
+        for (std::size_t x = 0; x < w; ++x)
+        {
+          unsigned char bits = 0;
+          for (int yy = ya; yy <= yb; ++yy)
+          {
+            const float c = coverage[static_cast<std::size_t>(yy) * w + x];
+            bits |= (c >= kEdgeHigh ? 1 : 0) | (c < kEdgeLow ? 2 : 0);
+          }
+          columns[static_cast<std::size_t>(y) * w + x] = bits;
+        }
+      }
+    });
+  ParallelFor(threads, 0, height, 16,
+    [&](int y0, int y1)
+    {
+      for (int y = y0; y < y1; ++y)
+      {
+        const unsigned char* row = columns.data() + static_cast<std::size_t>(y) * w;
+        for (std::size_t x = 0; x < w; ++x)
+        {
+          const unsigned char bits =
+            row[x] | row[x > 0 ? x - 1 : x] | row[x + 1 < w ? x + 1 : x];
+          mask[static_cast<std::size_t>(y) * w + x] = bits == 3 ? 1 : 0;
+        }
+      }
+    });
+  for (std::size_t i = 0; i < mask.size(); ++i)
+  {
+    if (mask[i])
+    {
+      edges.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void TraceEdgeSamples(const TraceParams& params, unsigned int firstSample, int samples,
+  int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable,
+  PassBuffers& frame)
+{
+  if (edges.empty() || samples < 1 || edgeSamples < 2)
+  {
+    return;
+  }
+  edgeSamples = std::min(edgeSamples, kMaxEdgeSamples);
+  const EdgesFunction trace = SelectEdges(portable);
+  const std::vector<float> offsets = LatticeOffsets(edgeSamples);
+  const std::uint32_t* list = edges.data();
+  ParallelFor(threads, vtkIdType(0), static_cast<vtkIdType>(edges.size()), vtkIdType(16),
+    [&](vtkIdType e0, vtkIdType e1)
+    { trace(params, firstSample, samples, edgeSamples, offsets.data(), list, e0, e1, frame); });
+}
+}

@@ -1,0 +1,131 @@
+"""EdgeSamples (vtkPathTracedVolumeMapper, Rendering/ptvEdgeSamples.h): after a frame is traced,
+the pixels whose 3x3 neighbourhood holds a camera ray of opacity >= 0.5 and one below 0.05 get
+EdgeSamples - 1 more samples per frame sample from a stream of their own, when the frame is
+denoised or with ComputeEdgeSamples."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pathtracedvolume")
+
+from ptv_wavelet_scene import get_pass, wavelet_scene  # noqa: E402
+
+import pathtracedvolume.vtkPTVRendering as ptv  # noqa: E402
+
+SIZE = (48, 36)  # (W, H)
+TRACED = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal", "ScatterDepth",
+          "ScatterPosition", "ScatterNormal", "Coverage", "Footprint"]
+
+
+def edge_mask(coverage: np.ndarray) -> np.ndarray:
+    """The documented rule on a (H, W) Coverage image: a 3x3 neighbourhood (clamped at the
+    border) with a value >= 0.5 and one < 0.05."""
+    c = np.pad(coverage, 1, mode="edge")
+    h, w = coverage.shape
+    windows = np.stack([c[dy:dy + h, dx:dx + w] for dy in range(3) for dx in range(3)])
+    return np.any(windows >= 0.5, axis=0) & np.any(windows < 0.05, axis=0)
+
+
+def render(count: int, compute: bool, denoise: bool = False, seed: int = 3,
+           threads: int = 0, footprint: bool = False) -> tuple:
+    """One fresh frame of the wavelet zoomed out (a silhouette against empty space)."""
+    window, mapper, keep = wavelet_scene(SIZE, opacity=0.6, seed=seed, denoise=denoise)
+    keep[3].GetActiveCamera().Zoom(0.6)
+    mapper.SetMaximumAccumulatedFrames(1)
+    mapper.ComputeCoverageOn()
+    mapper.SetComputeFootprint(footprint)
+    mapper.SetEdgeSamples(count)
+    mapper.SetComputeEdgeSamples(compute)
+    if threads:
+        mapper.SetNumberOfThreads(threads)
+    window.Render()
+    passes = {name: get_pass(mapper, name, SIZE) for name in TRACED}
+    return passes, mapper
+
+
+def grid(a: np.ndarray) -> np.ndarray:
+    return a.reshape(SIZE[1], SIZE[0], -1)
+
+
+def test_only_edge_pixels_change() -> None:
+    """The pixels outside the rule's mask (computed from the frame without edge samples) are
+    bit-identical in every pass; the mask's pixels hold the mean of four samples (Alpha in
+    quarters), some of them differ, and GetLastEdgeFraction is the mask's share."""
+    plain, plain_mapper = render(4, compute=False)
+    assert plain_mapper.GetLastEdgeFraction() == 0.0
+    edged, mapper = render(4, compute=True)
+    mask = edge_mask(grid(plain["Coverage"])[..., 0])
+    assert 0.02 < mask.mean() < 0.5, mask.mean()
+    assert mapper.GetLastEdgeFraction() == pytest.approx(mask.mean(), abs=1e-12)
+    for name in TRACED:
+        a, b = grid(plain[name]), grid(edged[name])
+        assert np.array_equal(a[~mask], b[~mask]), name
+    alpha = grid(edged["Alpha"])[..., 0][mask]
+    assert np.allclose(alpha * 4, np.round(alpha * 4), atol=1e-5)
+    assert ((alpha > 0) & (alpha < 1)).any()  # a mean of hits and misses somewhere
+    changed = np.any(grid(plain["Radiance"]) != grid(edged["Radiance"]), axis=-1)
+    assert changed[mask].mean() > 0.3
+
+
+def test_frames_are_deterministic_and_thread_independent() -> None:
+    """The same seed gives the same frame, on one thread or two; EdgeSamples 1 is the plain
+    frame."""
+    a, _ = render(4, compute=True, threads=1)
+    b, _ = render(4, compute=True, threads=2)
+    for name in TRACED:
+        assert np.array_equal(a[name], b[name]), name
+    off, mapper = render(1, compute=True)
+    plain, _ = render(4, compute=False)
+    assert mapper.GetLastEdgeFraction() == 0.0
+    for name in TRACED:
+        assert np.array_equal(off[name], plain[name]), name
+
+
+def test_denoised_frame_gets_them_by_default() -> None:
+    """With Denoise on (ComputeEdgeSamples off) the frame loop traces them: the accumulated
+    passes are those of ComputeEdgeSamples (and ComputeFootprint, which it traces too) without
+    denoising."""
+    denoised, mapper = render(4, compute=False, denoise=True)
+    assert mapper.GetLastEdgeFraction() > 0.02
+    asked, _ = render(4, compute=True, footprint=True)
+    for name in TRACED:
+        assert np.array_equal(denoised[name], asked[name]), name
+
+
+@pytest.mark.parametrize("count", [2, 3, 4])
+def test_the_mean_is_unbiased(count: int) -> None:
+    """Edge samples change a pixel's variance, not its expectation, whichever lattice their
+    jitter forms (2: the opposite point; 3: a rank-1 lattice; 4: a 2 x 2 grid): over many fresh
+    frames the radiance summed over the band of edge pixels agrees with the plain frames' within
+    4 standard errors of the difference of two independent means (a misweighted mean, e.g. the
+    extra samples counted as one, moves it by many), and varies less."""
+    frames = 24
+    band = np.zeros((SIZE[1], SIZE[0]), bool)
+    images = {False: [], True: []}
+    for seed in range(100, 100 + frames):
+        for compute in (False, True):
+            passes, _ = render(count, compute=compute, seed=seed)
+            images[compute].append(grid(passes["Radiance"]).sum(axis=-1))
+            if not compute:
+                band |= edge_mask(grid(passes["Coverage"])[..., 0])
+    a, b = (np.array([image[band].sum() for image in images[c]]) for c in (False, True))
+    se = math.sqrt(a.var(ddof=1) / frames + b.var(ddof=1) / frames)
+    assert abs(a.mean() - b.mean()) < 4 * se, (a.mean(), b.mean(), se)
+    assert b.var(ddof=1) < a.var(ddof=1)
+
+
+def test_edge_samples_in_the_settings() -> None:
+    """Documented properties with their defaults and range, printed by PrintSelf."""
+    mapper = ptv.vtkPathTracedVolumeMapper()
+    assert mapper.GetEdgeSamples() == 2 and not mapper.GetComputeEdgeSamples()
+    assert mapper.GetLastEdgeFraction() == 0.0
+    mapper.SetEdgeSamples(0)
+    assert mapper.GetEdgeSamples() == 1
+    mapper.SetEdgeSamples(1000)
+    assert mapper.GetEdgeSamples() == 64
+    mapper.ComputeEdgeSamplesOn()
+    text = str(mapper)
+    assert "EdgeSamples: 64" in text and "ComputeEdgeSamples: 1" in text
