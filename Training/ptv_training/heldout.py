@@ -9,7 +9,9 @@ key light up and to the right of the camera, the default background) are rendere
 the Footprint pass that the mapper gives its denoiser, a ``--reference-spp`` reference of an
 independent seed and its first half for the convergence check) and kept as EXR files in
 ``--views-dir`` (rerun: verified and reused). Each model given (``--model``, default the
-shipped one) then denoises the 1-spp passes through the C++ ``vtkPTVDenoiser``, and OIDN RT fast (``pyoidn``, HDR colour + albedo + normal) the same passes.
+shipped one) then denoises the 1-spp passes through the C++ ``vtkPTVDenoiser``, and OIDN RT fast (``pyoidn``, HDR colour + albedo + normal) the same passes: the frame the mapper gives its
+denoiser, i.e. with ``--edge-samples`` EdgeSamples on the volume's edge pixels (traced again
+from the view's input seed; the stored frame elsewhere, bit for bit).
 
 Reported per (shape, dataset): PSNR and SSIM of noisy 1 spp, each model and OIDN fast against the
 reference (tone-mapped ``clip(max(0, x)^(1/2.2), 0, 1)``, scikit-image, data_range 1), and
@@ -101,19 +103,49 @@ def ensure_views(args: argparse.Namespace) -> List[Path]:
     return files
 
 
-def evaluate(files: Sequence[Path], models: Sequence[Path]) -> List[Dict[str, Any]]:
-    """One row per (view, method): PSNR, SSIM."""
+def edge_frame(scene: Any, meta: Dict[str, Any], stored: Dict[str, np.ndarray],
+               edge_samples: int) -> Dict[str, np.ndarray]:
+    """The view's 1-spp frame as the mapper traces it for its denoiser: the stored passes with
+    ``edge_samples`` EdgeSamples on the volume's edge pixels (the same samples elsewhere,
+    checked bit for bit outside those pixels)."""
+    mapper = scene.set_view(meta, seed=meta["input_seed"], max_frames=1, footprint=True)
+    mapper.SetEdgeSamples(edge_samples)
+    mapper.SetComputeEdgeSamples(True)
+    if scene.render(1) != 1:
+        raise RuntimeError("the edge-sampled frame did not render")
+    passes = {name: scene.get_pass(name).reshape(stored[name].shape) for name in stored}
+    changed = np.zeros(passes["Radiance"].shape[:2], bool)
+    for name, image in passes.items():
+        changed |= np.any((image != stored[name]).reshape(changed.shape + (-1,)), axis=-1)
+    if changed.mean() > mapper.GetLastEdgeFraction() + 1e-9:
+        raise RuntimeError(f"{meta['dataset']} {meta['heldout']}: the frame differs from the "
+                           "stored 1-spp passes outside its edge pixels (render it again)")
+    return passes
+
+
+def evaluate(files: Sequence[Path], models: Sequence[Path],
+             edge_samples: int = 1) -> List[Dict[str, Any]]:
+    """One row per (view, method): PSNR, SSIM. The denoisers get the 1-spp frame with
+    ``edge_samples`` EdgeSamples (> 1: traced again, :func:`edge_frame`); "noisy 1 spp" is
+    the plain frame."""
     from pathtracedvolume.metrics import quality
 
     from .compare import oidn_fast
     from .evaluate import cpp_denoise
+    from .scene import Scene
 
     rows: List[Dict[str, Any]] = []
+    scene: Optional[Scene] = None
     for path in files:
         view = exr_io.read_view(path)
         meta = view["view"]
-        passes = view["inputs"][1]
-        images = {"noisy 1 spp": passes["Radiance"]}
+        plain = view["inputs"][1]
+        passes = plain
+        if edge_samples > 1:
+            if scene is None or scene.dataset != meta["dataset"]:
+                scene = Scene(meta["dataset"], tuple(meta["size"]))
+            passes = edge_frame(scene, meta, plain, edge_samples)
+        images = {"noisy 1 spp": plain["Radiance"]}
         for model in models:
             images[model.stem] = cpp_denoise(model, passes, sorted(passes), threads=2)["output"]
         images["OIDN fast"] = oidn_fast(passes)
@@ -142,7 +174,9 @@ def report(rows: Sequence[Dict[str, Any]], models: Sequence[Path], args: argpars
              f"Command: `{command}`. {args.size}² views, {args.views} camera(s) per (shape, "
              f"dataset), references {args.reference_spp} spp of an independent seed "
              f"(PSNR of its first half against it: {mean(rows, method='reference half'):.1f} dB "
-             "mean). PSNR (dB) / SSIM of 1-spp inputs denoised, tone-mapped "
+             "mean). PSNR (dB) / SSIM of 1-spp inputs denoised (both denoisers get the "
+             f"frame the mapper denoises: EdgeSamples {args.edge_samples} on the volume's edge "
+             "pixels; 'noisy 1 spp' is the plain frame), tone-mapped "
              "`clip(max(0, x)^(1/2.2), 0, 1)`, scikit-image, data_range 1. The shapes "
              "(`ptv_training/transfer.py`): *translucent*, one ramp over the occupied range with "
              "opacity at most 0.04; *smooth*, two Gaussian bumps; *narrow*, two bands 0.3 % of "
@@ -196,8 +230,14 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="where the rendered views are kept (default .cache/training/heldout)")
     p.add_argument("--results", type=Path, default=REPO_ROOT / "Training" / "results",
                    help="write heldout_tf.md/.json here (default Training/results)")
+    p.add_argument("--edge-samples", type=int, default=0,
+                   help="EdgeSamples of the denoisers' frame (0: the mapper's default; 1: "
+                        "the plain 1-spp frame)")
     p.add_argument("--no-progress", action="store_true", help="no tqdm progress bar")
     args = p.parse_args(argv)
+    if args.edge_samples <= 0:
+        from pathtracedvolume import vtkPathTracedVolumeMapper
+        args.edge_samples = int(vtkPathTracedVolumeMapper().GetEdgeSamples())
     for model in args.model:
         if not model.is_file():
             p.error(f"--model: {model} does not exist")
@@ -209,13 +249,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     command = "python Training/ptv_training/heldout.py " + " ".join(
         sys.argv[1:] if argv is None else list(map(str, argv)))
     files = ensure_views(args)
-    rows = evaluate(files, args.model)
+    rows = evaluate(files, args.model, args.edge_samples)
     text = report(rows, args.model, args, command)
     args.results.mkdir(parents=True, exist_ok=True)
     write_text(args.results / "heldout_tf.md", text)
     write_text(args.results / "heldout_tf.json",
                json.dumps({"command": command, "models": [str(m) for m in args.model],
                            "size": args.size, "reference_spp": args.reference_spp,
+                           "edge_samples": args.edge_samples,
                            "rows": rows}, indent=1) + "\n")
     print(text)
     return 0

@@ -50,6 +50,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--datasets", nargs="+", default=list(DATASETS), choices=DATASETS)
     p.add_argument("--model", default="", help="GuideNet .onnx (default: the shipped one)")
     p.add_argument("--threads", type=int, default=0, help="tracer/denoiser threads (0 = all)")
+    p.add_argument("--edge-samples", type=int, default=0,
+                   help="EdgeSamples of the denoisers' frames (0 = the mapper's default)")
     p.add_argument("--static-frames", type=int, default=16, help="seeds of the fixed view")
     p.add_argument("--orbit-frames", type=int, default=36, help="frames of the camera orbit")
     p.add_argument("--orbit-step", type=float, default=2.0, help="orbit degrees per frame")

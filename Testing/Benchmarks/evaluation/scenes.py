@@ -56,6 +56,13 @@ PROCEDURAL_PRESET = {
 }
 
 
+def set_edge_samples(scene: pb.BenchScene, count: int) -> None:
+    """The mapper's EdgeSamples in every frame (ComputeEdgeSamples) with ``count`` > 1, else
+    none (the N-spp sweep and the references)."""
+    scene.mapper.SetEdgeSamples(max(int(count), 1))
+    scene.mapper.SetComputeEdgeSamples(count > 1)
+
+
 class Scenes:
     """Builds volumes, presets and BenchScenes from JSON-able specs and reuses them::
 
@@ -66,8 +73,9 @@ class Scenes:
          "azimuth", "elevation", "dolly"}
     """
 
-    def __init__(self, threads: int) -> None:
+    def __init__(self, threads: int, edge_samples: int = 1) -> None:
         self.threads = threads
+        self.edge_samples = edge_samples  # the denoised frame's EdgeSamples (frame())
         self._volumes: Dict[str, Any] = {}
         self._scenes: Dict[str, pb.BenchScene] = {}
 
@@ -134,10 +142,13 @@ class Scenes:
         return scene
 
     def trace(self, spec: Mapping[str, Any], seed: int, frames: int,
-              grab: Mapping[int, Sequence[str]], desc: str = "") -> Dict[str, np.ndarray]:
-        """Accumulate ``frames`` 1-spp frames of ``seed``; ``"<pass>@<k>"`` for every pass in
+              grab: Mapping[int, Sequence[str]], desc: str = "",
+              edge_samples: int = 1) -> Dict[str, np.ndarray]:
+        """Accumulate ``frames`` 1-spp frames of ``seed`` (with ``edge_samples`` > 1 the
+        mapper's EdgeSamples, as in a denoised frame); ``"<pass>@<k>"`` for every pass in
         ``grab[k]``, plus ``"trace_ms"`` (each frame's trace time)."""
         scene = self.scene(spec)
+        set_edge_samples(scene, edge_samples)
         out: Dict[str, np.ndarray] = {}
         bar = tqdm(total=frames, desc=desc, unit="spp", leave=False, disable=frames < 64)
 
@@ -147,11 +158,13 @@ class Scenes:
                 out[f"{name}@{k}"] = scene.grab(name)
         out["trace_ms"] = np.asarray(scene.render(seed, frames, on_frame))
         bar.close()
+        set_edge_samples(scene, 1)
         return out
 
     def frame(self, spec: Mapping[str, Any], seed: int) -> pb.Passes:
-        """Every pass of one fresh 1-spp frame."""
-        data = self.trace(spec, seed, 1, {1: pb.PASSES})
+        """Every pass of one fresh 1-spp frame as the mapper traces it for the denoiser (with
+        the Coverage, Footprint and ``edge_samples`` EdgeSamples)."""
+        data = self.trace(spec, seed, 1, {1: pb.PASSES}, edge_samples=self.edge_samples)
         return {name: data[f"{name}@1"] for name in pb.PASSES}
 
     def trace_ms(self, spec: Mapping[str, Any], repeats: int,
@@ -199,7 +212,15 @@ class Cache:
 TRACER_SOURCES = ("Rendering/Kernels/*.h", "Rendering/ptvFrameInputs.*", "Rendering/ptvFrameLoop.*",
                   "Rendering/ptvSceneToKernel.*", "Rendering/ptvCpuTracer.*",
                   "Rendering/ptvTracerRunner.*", "Rendering/ptvPassBuffers.*",
-                  "Rendering/ptvReprojection.*")
+                  "Rendering/ptvReprojection.*", "Rendering/ptvEdgeSamples.*")
+
+
+def edge_samples(args: argparse.Namespace) -> int:
+    """--edge-samples, or the mapper's default EdgeSamples (what a denoised frame traces)."""
+    if getattr(args, "edge_samples", None):
+        return int(args.edge_samples)
+    from pathtracedvolume import vtkPathTracedVolumeMapper
+    return int(vtkPathTracedVolumeMapper().GetEdgeSamples())
 
 
 def tracer_fingerprint(scenes: Scenes) -> str:
@@ -222,7 +243,7 @@ class Bench:
 
     def __init__(self, args: argparse.Namespace) -> None:
         self.args = args
-        self.scenes = Scenes(args.threads)
+        self.scenes = Scenes(args.threads, edge_samples(args))
         self.fingerprint = tracer_fingerprint(self.scenes)
         self.cache = Cache(None if args.no_cache else args.cache, self.fingerprint)
         # 0: the model's default level count; every level of the model (Table 1's second row)
@@ -245,7 +266,8 @@ class Bench:
                               compute)
 
     def view_data(self, dataset: str, view: int) -> Dict[str, np.ndarray]:
-        """1-spp passes ("<pass>@1"), the sweep ("Radiance@N"), "ref" and "half"."""
+        """1-spp passes ("<pass>@1"), the denoisers' frame of the same seed with EdgeSamples
+        ("<pass>@frame", Scenes.frame), the sweep ("Radiance@N"), "ref" and "half"."""
         key = (dataset, view)
         if key not in self._views:
             spec = self.view_spec(dataset, view)
@@ -256,7 +278,13 @@ class Bench:
                 "sweep", {"spec": spec, "counts": sweep_counts, "seed": SEED_INPUT},
                 lambda: self.scenes.trace(spec, SEED_INPUT, max(sweep_counts), grab,
                                           desc=f"sweep {dataset} view {view}"))
-            self._views[key] = {**sweep, **self.reference(spec, self.args.ref_spp)}
+            k = self.scenes.edge_samples
+            frame = self.cache.get(
+                "frame", {"spec": spec, "seed": SEED_INPUT, "edge_samples": k},
+                lambda: self.scenes.trace(spec, SEED_INPUT, 1, {1: list(pb.PASSES)},
+                                          edge_samples=k))
+            frame = {f"{n}@frame": frame[f"{n}@1"] for n in pb.PASSES}
+            self._views[key] = {**sweep, **frame, **self.reference(spec, self.args.ref_spp)}
         return self._views[key]
 
     def denoise(self, passes: pb.Passes, levels: int = 0) -> np.ndarray:

@@ -14,14 +14,14 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any, Dict, List, Mapping, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 import ptvbench as pb
 from tqdm import tqdm
 
 from .common import VIEWS, Output, counts, fmt, md_table, missing_keys, num
-from .scenes import Bench
+from .scenes import Bench, set_edge_samples
 
 # "ours": the model's default level count (ptv.default_levels); "ours every level": all of the
 # model's levels (the slower, finer setting a user can ask for with NumberOfLevels).
@@ -45,7 +45,7 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
         ref_checks = []
         for v in range(a.views):
             d = bench.view_data(ds, v)
-            passes = {n: d[f"{n}@1"] for n in pb.PASSES}
+            passes = {n: d[f"{n}@frame"] for n in pb.PASSES}  # with EdgeSamples
             ref_checks.append(pb.quality(d["ref"], d["half"])[0])
             images = {f"{n} spp": d[f"Radiance@{n}"] for n in sweep_counts}
             images[EVERY] = bench.denoise(passes, pb.model_levels(a.model))
@@ -66,15 +66,16 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
                                             (f"reference {a.ref_spp} spp", d["ref"])],
                            box=(200, 200))
         # timings at view 0, all methods in the same rounds
-        p0 = {n: bench.view_data(ds, 0)[f"{n}@1"] for n in pb.PASSES}
-        t_trace, t_ours, den = timed_rounds(bench, ds, p0, table1_rounds(a))
-        stages[ds] = {"trace": t_ours, "trace_plain": t_trace,
+        p0 = {n: bench.view_data(ds, 0)[f"{n}@frame"] for n in pb.PASSES}
+        t_trace, t_ours, t_edges, den = timed_rounds(bench, ds, p0, table1_rounds(a))
+        stages[ds] = {"trace": t_ours, "trace_plain": t_trace, "trace_edges": t_edges,
                       **{m: {k: den[m][k] for k in pb.STAGES + ("ms",)} for m in (EVERY, "ours")}}
         rows: Dict[str, Dict[str, Any]] = {}
         for name, qs in quality.items():
             spp = int(name.split()[0]) if name.endswith(" spp") else 1
             denoise_ms = den[name]["ms"] if name in den else 0.0
-            trace_ms = t_ours if name in (EVERY, "ours") else spp * t_trace
+            trace_ms = (t_ours if name in (EVERY, "ours") else
+                        t_edges if name in METHODS else spp * t_trace)
             rows[name] = {
                 "dataset": ds, "method": name, "spp": spp,
                 "psnr": float(np.mean([q[0] for q in qs])),
@@ -90,7 +91,8 @@ def measure(bench: Bench, out: Output, results: Mapping[str, Any]) -> Dict[str, 
         reference_check[ds] = ref_checks
     return {"stages": stages, "reference_check": reference_check,
             "table1": [r for r in chart_rows if r["in_table"]], "speedup": speedups,
-            "table1_per_view": per_view, "psnr_time": chart_rows}
+            "table1_per_view": per_view, "psnr_time": chart_rows,
+            "edge_samples": bench.scenes.edge_samples}
 
 
 def table1_rounds(args: argparse.Namespace) -> int:
@@ -101,28 +103,32 @@ def table1_rounds(args: argparse.Namespace) -> int:
 
 
 def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds: int
-                 ) -> Tuple[float, float, Dict[str, Dict[str, Any]]]:
+                 ) -> Tuple[float, float, float, Dict[str, Dict[str, Any]]]:
     """The 1-spp trace (a fresh frame, the tracer's own time) and every denoiser on view 0's
     passes in the same rounds (pb.interleaved: a slow spell of the shared machine slows them
-    alike), one warm-up round, then ``rounds``: (median trace ms without the Coverage and
-    Footprint passes, the same with what the mapper traces when it denoises -- the Coverage pass
-    where our model reads it, the Footprint pass (DenoiserFootprint, on by default) --, per
-    denoiser the row of pb.run_ours / pb.run_oidn with medians over the rounds). Every denoiser
-    runs right after a trace, as in a frame (ours after a trace with those passes, the others
-    after one without): the trace leaves the caches to the volume, and a denoiser timed after
-    another denoiser would find its own buffers warm."""
+    alike), one warm-up round, then ``rounds``: (median trace ms of a plain frame (the N-spp
+    sweep's), the same with what the mapper traces when it denoises -- the Coverage pass where
+    our model reads it, the Footprint pass (DenoiserFootprint, on by default), EdgeSamples --,
+    the same with EdgeSamples alone (OIDN's frames: the same samples, without the passes only
+    our denoiser reads), per denoiser the row of pb.run_ours / pb.run_oidn with medians over
+    the rounds). Every denoiser runs right after a trace of its own kind, as in a frame: the
+    trace leaves the caches to the volume, and a denoiser timed after another denoiser would
+    find its own buffers warm."""
     import statistics
 
     a = bench.args
     scene = bench.scenes.scene(bench.view_spec(ds, 0))
-    seeds = iter(range(500000, 500000 + 4 * (rounds + 1)))
+    seeds = iter(range(500000, 500000 + 8 * (rounds + 1)))
     reads = "coverage" in pb.model_props(a.model)["ptv.input_channels"].split(",")
     traced: Dict[bool, List[float]] = {False: [], True: []}
+    plain: List[float] = []
 
-    def trace(ours_frame: bool) -> None:
+    def trace(ours_frame: bool, edges: bool = True, into: Optional[List[float]] = None
+              ) -> None:
         scene.mapper.SetComputeCoverage(ours_frame and reads)
         scene.mapper.SetComputeFootprint(ours_frame)
-        traced[ours_frame].append(scene.render(next(seeds), 1)[0])
+        set_edge_samples(scene, bench.scenes.edge_samples if edges else 1)
+        (traced[ours_frame] if into is None else into).append(scene.render(next(seeds), 1)[0])
 
     ours = {m: pb.Ours(lv, a.model, a.threads)
             for m, lv in ((EVERY, pb.model_levels(a.model)), ("ours", 0))}
@@ -134,6 +140,7 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     for m, call in denoisers.items():
         calls[f"trace before {m}"] = lambda c=m in ours: trace(c)
         calls[m] = call
+    calls["trace plain"] = lambda: trace(False, edges=False, into=plain)
     runs = pb.interleaved(calls, rounds, {m: o.stages for m, o in ours.items()})
     den: Dict[str, Dict[str, Any]] = {}
     for m, run in runs.items():
@@ -146,11 +153,12 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
             row.update(status=ours[m].status(), kernels=ours[m].kernel_target())
         den[m] = row
     per_round = {c: sum(1 for m in denoisers if (m in ours) == c) for c in traced}
-    plain, marched = (statistics.median(traced[c][per_round[c]:])  # without the warm-up round's
+    edged, marched = (statistics.median(traced[c][per_round[c]:])  # without the warm-up round's
                       if per_round[c] else float("nan") for c in (False, True))
     scene.mapper.SetComputeCoverage(True)  # as the scene was
     scene.mapper.SetComputeFootprint(True)
-    return plain, marched, den
+    set_edge_samples(scene, 1)
+    return statistics.median(plain[1:]), marched, edged, den
 
 
 def speedup(sweep: Sequence[Mapping[str, Any]], method: Mapping[str, Any],
@@ -198,7 +206,8 @@ def render(results: Mapping[str, Any], args: argparse.Namespace,
     out.save("table1_per_view", list(results["table1_per_view"]))
     out.save("speedup", list(speedups))
     out.save("psnr_time", list(results["psnr_time"]))
-    lines, headlines = markdown(args, summary, speedups, results["reference_check"])
+    lines, headlines = markdown(args, summary, speedups, results["reference_check"],
+                                results.get("edge_samples", 1))
     return lines, {"headlines": headlines}
 
 
@@ -239,21 +248,24 @@ def chart(args: argparse.Namespace, ds: str, sweep: Sequence[Mapping[str, Any]],
 
 def markdown(a: argparse.Namespace, summary: Sequence[Mapping[str, Any]],
              speedups: Sequence[Mapping[str, Any]],
-             checks: Mapping[str, Sequence[float]]) -> Tuple[List[str], List[str]]:
+             checks: Mapping[str, Sequence[float]],
+             edge_samples: int) -> Tuple[List[str], List[str]]:
     """Sections 1 and 2 (Markdown lines) and the headlines of the summary."""
     md = ["## 1. Paper Table 1: quality and time per dataset", "",
           f"{a.size}² pixels, {a.views} view(s) per dataset (camera azimuth/elevation "
           f"{', '.join(f'{VIEWS[v][0]:.0f}°/{VIEWS[v][1]:.0f}°' for v in range(a.views))}),"
           f" PSNR/SSIM = mean over the views against a {a.ref_spp}-spp reference of an "
           f"independent seed. Time per frame: N spp = N × the median 1-spp trace time; "
-          f"denoisers = 1-spp trace (ours: with the Coverage pass, which the mapper traces "
+          f"denoisers = the trace of the frame the mapper denoises (1 spp, and "
+          f"EdgeSamples {edge_samples} on the volume's edge pixels: "
+          f"docs/edge-samples.md; ours also with the Coverage pass, which the mapper traces "
           f"when the model reads it, and the Footprint pass, which it traces when it denoises; "
-          f"the others without) + the median denoise time (ours: "
-          f"vtkPTVDenoiser with the shipped model; OIDN: pyoidn RT filter, HDR colour + albedo "
-          f"+ normal), "
-          f"all on the same 1-spp passes, view 0; every denoiser right after a 1-spp trace (a "
-          f"fresh frame, as in a frame loop), all of them once per round, median of "
-          f"{table1_rounds(a)} rounds after a warm-up round.",
+          f"OIDN gets the same samples without those two passes) + the median denoise time "
+          f"(ours: vtkPTVDenoiser with the shipped model; OIDN: pyoidn RT filter, HDR colour + "
+          f"albedo + normal), all on the same passes of that frame, view 0; every denoiser "
+          f"right after a trace of its frame (a fresh frame, as in a frame loop), all of them "
+          f"once per round, median of {table1_rounds(a)} rounds after a warm-up round. The "
+          f"'1 spp' row is the plain frame (the sweep's first).",
           ""]
     md += ["Reference convergence: PSNR of the first half (ref/2 spp) against the full "
            "reference, per view: " + "; ".join(
