@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -272,10 +273,12 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   // of one with N times the samples. Not for distributed pieces, whose samples are composited
   // one by one (above).
   this->LastEdgeFraction = 0.0;
+  this->EdgePixels.clear();
   if (keep && edgeSamples > 1 && !(this->Parallel.IsDistributed() && this->Parallel.IsParallel()))
   {
     FindEdgePixels(this->Frame.Data(PassCoverage), this->Frame.GetWidth(),
       this->Frame.GetHeight(), request.Threads, this->EdgePixels);
+    this->SwapEdgeFirstHits(this->Frame, true); // keep the frame samples' own first hits
     TraceEdgeSamples(this->Params, firstSample, samples * this->Parallel.GetSize(), edgeSamples,
       this->EdgePixels, request.Threads, UsePortableKernels(false), this->Frame);
     this->LastEdgeFraction = static_cast<double>(this->EdgePixels.size()) /
@@ -311,9 +314,42 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   if (this->ViewMoved)
   {
     const double reprojectStart = Now();
+    // The new frame's point and albedo tests read its first hit: an edge pixel's mean of
+    // several samples (a hit and a miss: a depth between the surface and the far plane) is
+    // not one, so they read the frame sample's own for the time of the step.
+    this->SwapEdgeFirstHits(this->Frame, false);
+    // Edge pixels keep their new samples alone (STUDY switch PTV_EDGE_HISTORY=1 keeps history)
+    const char* keepEdgeHistory = std::getenv("PTV_EDGE_HISTORY");
+    const bool dropEdges = !(keepEdgeHistory && std::string(keepEdgeHistory) == "1");
+    std::vector<float> fresh;
+    if (dropEdges)
+    {
+      fresh.resize(4 * this->EdgePixels.size());
+      const float* radiance = this->Frame.Data(PassRadiance);
+      const float* alpha = this->Frame.Data(PassAlpha);
+      for (std::size_t e = 0; e < this->EdgePixels.size(); ++e)
+      {
+        const std::size_t i = this->EdgePixels[e];
+        std::copy(radiance + 3 * i, radiance + 3 * i + 3, fresh.data() + 4 * e);
+        fresh[4 * e + 3] = alpha[i];
+      }
+    }
     this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
       request.MaximumHistory, this->LastViewFrames, this->Accumulated,
       this->Frame, request.Threads);
+    this->SwapEdgeFirstHits(this->Accumulated, false); // the frame's passes are there now
+    if (dropEdges)
+    {
+      float* radiance = this->Accumulated.Data(PassRadiance);
+      float* alpha = this->Accumulated.Data(PassAlpha);
+      for (std::size_t e = 0; e < this->EdgePixels.size(); ++e)
+      {
+        const std::size_t i = this->EdgePixels[e];
+        std::copy(fresh.data() + 4 * e, fresh.data() + 4 * e + 3, radiance + 3 * i);
+        alpha[i] = fresh[4 * e + 3];
+      }
+      this->History.DropHistory(this->EdgePixels.data(), this->EdgePixels.size());
+    }
     this->LastReprojectionTime += 1000.0 * (Now() - reprojectStart);
   }
   else if (this->History.HasHistory())
@@ -329,6 +365,38 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::SwapEdgeFirstHits(PassBuffers& frame, bool save)
+{
+  const std::size_t count = this->EdgePixels.size();
+  if (save)
+  {
+    this->EdgeFirstHits.resize(4 * count);
+  }
+  if (this->EdgeFirstHits.size() != 4 * count)
+  {
+    return;
+  }
+  float* depth = frame.Data(PassDepth);
+  float* albedo = frame.Data(PassAlbedo);
+  for (std::size_t e = 0; e < count; ++e)
+  {
+    const std::size_t i = this->EdgePixels[e];
+    float* kept = this->EdgeFirstHits.data() + 4 * e;
+    if (save)
+    {
+      kept[0] = depth[i];
+      std::copy(albedo + 3 * i, albedo + 3 * i + 3, kept + 1);
+      continue;
+    }
+    std::swap(kept[0], depth[i]);
+    for (int c = 0; c < 3; ++c)
+    {
+      std::swap(kept[1 + c], albedo[3 * i + c]);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

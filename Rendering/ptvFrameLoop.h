@@ -141,6 +141,9 @@ private:
   void Trace(const FrameRequest& request, FrameMessages& messages);
   /// The traced frame joins the accumulation (reprojected history, running mean, counts).
   void AccumulateFrame(const FrameRequest& request);
+  /// @a save: keep the edge pixels' Depth and Albedo of the frame sample in @a frame (before
+  /// its edge samples); else exchange the kept ones with @a frame's (twice: back as they were).
+  void SwapEdgeFirstHits(PassBuffers& frame, bool save);
   /// Denoise the accumulation if it changed since the last denoise; false on failure.
   /// The denoiser's settings for @a request (its threads; the grid on the tracer's device).
   DenoiserSettings SettingsOf(const FrameRequest& request) const;
@@ -168,6 +171,7 @@ private:
   Display Drawing;
   std::vector<float> ZBuffer;
   std::vector<std::uint32_t> EdgePixels; ///< the last frame's (ptvEdgeSamples.h)
+  std::vector<float> EdgeFirstHits;      ///< their frame sample's Depth and Albedo
   std::vector<float> ConvergedAlpha; ///< the opacity the Converged pass is drawn with
 
   int AccumulatedFrames = 0;

@@ -538,6 +538,18 @@ void Reprojection::Accumulate(
 }
 
 //------------------------------------------------------------------------------
+void Reprojection::DropHistory(const std::uint32_t* pixels, std::size_t count)
+{
+  for (std::size_t e = 0; e < count && this->HasHistory(); ++e)
+  {
+    if (pixels[e] < this->Counts.size())
+    {
+      this->Counts[pixels[e]] = 1.0f;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 void Reprojection::WriteCounts(float* out, int pixels, int frames) const
 {
   if (this->HasHistory() && this->Counts.size() == static_cast<std::size_t>(pixels))

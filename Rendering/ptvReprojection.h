@@ -46,6 +46,7 @@
 
 #include "ptvPassBuffers.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace ptv
@@ -77,6 +78,10 @@ public:
 
   /// Write each pixel's frame count into @a out (@a frames everywhere without history).
   void WriteCounts(float* out, int pixels, int frames) const;
+
+  /// After Reproject: the @a count pixels @a pixels hold the new frame alone (count 1), their
+  /// history dropped (the caller restores their Radiance and Alpha).
+  void DropHistory(const std::uint32_t* pixels, std::size_t count);
 
   /// Fraction of the last Reproject()'s hit pixels (not misses) that kept a history (0..1).
   double GetReusedFraction() const { return this->Reused; }

@@ -95,6 +95,35 @@ def test_denoised_frame_gets_them_by_default() -> None:
         assert np.array_equal(denoised[name], asked[name]), name
 
 
+def test_a_camera_move_drops_the_edges_history() -> None:
+    """After a camera move the edge pixels start again from the new frame (HistoryLength 1):
+    their history lags behind the silhouette, which moves with the view; other pixels of the
+    volume keep theirs. The rule's pixels come from the same move without edge samples (the
+    same frame samples)."""
+    def moved(count: int) -> dict:
+        window, mapper, keep = wavelet_scene(SIZE, opacity=0.6, seed=3)
+        keep[3].GetActiveCamera().Zoom(0.6)
+        mapper.ComputeCoverageOn()
+        mapper.SetEdgeSamples(count)
+        mapper.ComputeEdgeSamplesOn()
+        for _ in range(3):
+            window.Render()
+        keep[3].GetActiveCamera().Azimuth(1.0)
+        window.Render()
+        assert mapper.GetReprojectionReuse() > 0.3
+        return {name: get_pass(mapper, name, SIZE) for name in ("Coverage", "HistoryLength")}
+
+    plain, edged = moved(1), moved(2)
+    mask = edge_mask(grid(plain["Coverage"])[..., 0])
+    assert mask.mean() > 0.02
+    history = grid(edged["HistoryLength"])[..., 0]
+    before = grid(plain["HistoryLength"])[..., 0] > 1.0  # kept a history without edge samples
+    assert np.all(history[mask] == 1.0)
+    assert before[mask].any()  # some of them had one
+    kept = before & ~mask
+    assert kept.mean() > 0.05 and (history[kept] > 1.0).mean() > 0.9
+
+
 @pytest.mark.parametrize("count", [2, 3, 4])
 def test_the_mean_is_unbiased(count: int) -> None:
     """Edge samples change a pixel's variance, not its expectation, whichever lattice their
