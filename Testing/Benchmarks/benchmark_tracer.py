@@ -13,7 +13,8 @@ benchmark_denoiser.py). Reported per row: whole-render time of each mapper (wind
 both include drawing), our trace time alone, samples (pixels) per second, the ratio ours/stock,
 our 1- vs 2-thread trace times (scaling), the trace time of the portable baseline build
 (PTV_PORTABLE_KERNELS=1) against the dispatched one, and end to end: a fresh 1-spp frame traced,
-denoised (the shipped model) and displayed, as milliseconds and frames per second.
+denoised (the shipped model) and displayed, as milliseconds and frames per second, with the
+mapper's EdgeSamples (what a denoised frame traces) and, in the same rounds, without them.
 """
 from __future__ import annotations
 
@@ -85,7 +86,7 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
         return {"whole": whole, "trace": ours.GetLastTraceTime(),
                 "denoise": ours.GetLastDenoiseTime()}
 
-    keys = ("stock", "ours", "one", "two", "portable", "end_to_end")
+    keys = ("stock", "ours", "one", "two", "portable", "end_to_end", "end_to_end_plain")
     rounds: dict = {k: [] for k in keys}
     for round_ in range(repeats + 1):
         volume.SetMapper(stock)
@@ -104,6 +105,10 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
         got["portable"] = render_ours(0, portable=True)
         ours.DenoiseOn()
         got["end_to_end"] = render_ours(0)
+        edge_samples = ours.GetEdgeSamples()
+        ours.SetEdgeSamples(1)  # the same frame without EdgeSamples
+        got["end_to_end_plain"] = render_ours(0)
+        ours.SetEdgeSamples(edge_samples)
         ours.DenoiseOff()
         if round_ > 0:
             for k in keys:
@@ -131,6 +136,10 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
         "kernel": ours.GetCpuKernelTarget(),
         "end_to_end_ms": end_to_end_ms, "end_to_end_fps": 1000.0 / end_to_end_ms,
         "denoise_ms": median("end_to_end", "denoise"),
+        "end_to_end_trace_ms": median("end_to_end", "trace"),
+        "end_to_end_plain_ms": median("end_to_end_plain", "whole"),
+        "end_to_end_plain_trace_ms": median("end_to_end_plain", "trace"),
+        "edge_samples": edge_samples,
     }
 
 
@@ -154,14 +163,18 @@ def main() -> int:
               f"{r['scaling_2_over_1']:.2f} |")
     kernel = rows[0]["kernel"] if rows else "?"
     print(f"\ninstruction sets and end to end (1 spp traced + denoised + displayed, every core):")
+    edges = rows[0]["edge_samples"] if rows else "?"
     header = ("dataset", "size", f"trace ms ({kernel})", "trace ms (baseline)", "speed-up",
-              "denoise ms", "end to end ms", "fps")
+              "denoise ms", "end to end ms", "fps", f"its trace ms (EdgeSamples {edges})",
+              "end to end ms, EdgeSamples 1", "its trace ms")
     print("| " + " | ".join(header) + " |")
     print("|" + "---|" * len(header))
     for r in rows:
         print(f"| {r['dataset']} | {r['size']}² | {r['ours_trace_ms']:.0f} | "
               f"{r['trace_portable_ms']:.0f} | {r['portable_speedup']:.2f} | "
-              f"{r['denoise_ms']:.0f} | {r['end_to_end_ms']:.0f} | {r['end_to_end_fps']:.1f} |")
+              f"{r['denoise_ms']:.0f} | {r['end_to_end_ms']:.0f} | {r['end_to_end_fps']:.1f} | "
+              f"{r['end_to_end_trace_ms']:.0f} | {r['end_to_end_plain_ms']:.0f} | "
+              f"{r['end_to_end_plain_trace_ms']:.0f} |")
     if args.json:
         write_text(args.json, json.dumps(rows, indent=2))
     return 0
