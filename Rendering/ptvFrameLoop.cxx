@@ -314,42 +314,7 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   if (this->ViewMoved)
   {
     const double reprojectStart = Now();
-    // The new frame's point and albedo tests read its first hit: an edge pixel's mean of
-    // several samples (a hit and a miss: a depth between the surface and the far plane) is
-    // not one, so they read the frame sample's own for the time of the step.
-    this->SwapEdgeFirstHits(this->Frame, false);
-    // Edge pixels keep their new samples alone (STUDY switch PTV_EDGE_HISTORY=1 keeps history)
-    const char* keepEdgeHistory = std::getenv("PTV_EDGE_HISTORY");
-    const bool dropEdges = !(keepEdgeHistory && std::string(keepEdgeHistory) == "1");
-    std::vector<float> fresh;
-    if (dropEdges)
-    {
-      fresh.resize(4 * this->EdgePixels.size());
-      const float* radiance = this->Frame.Data(PassRadiance);
-      const float* alpha = this->Frame.Data(PassAlpha);
-      for (std::size_t e = 0; e < this->EdgePixels.size(); ++e)
-      {
-        const std::size_t i = this->EdgePixels[e];
-        std::copy(radiance + 3 * i, radiance + 3 * i + 3, fresh.data() + 4 * e);
-        fresh[4 * e + 3] = alpha[i];
-      }
-    }
-    this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
-      request.MaximumHistory, this->LastViewFrames, this->Accumulated,
-      this->Frame, request.Threads);
-    this->SwapEdgeFirstHits(this->Accumulated, false); // the frame's passes are there now
-    if (dropEdges)
-    {
-      float* radiance = this->Accumulated.Data(PassRadiance);
-      float* alpha = this->Accumulated.Data(PassAlpha);
-      for (std::size_t e = 0; e < this->EdgePixels.size(); ++e)
-      {
-        const std::size_t i = this->EdgePixels[e];
-        std::copy(fresh.data() + 4 * e, fresh.data() + 4 * e + 3, radiance + 3 * i);
-        alpha[i] = fresh[4 * e + 3];
-      }
-      this->History.DropHistory(this->EdgePixels.data(), this->EdgePixels.size());
-    }
+    this->ReprojectFrame(request);
     this->LastReprojectionTime += 1000.0 * (Now() - reprojectStart);
   }
   else if (this->History.HasHistory())
@@ -365,6 +330,42 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::ReprojectFrame(const FrameRequest& request)
+{
+  // The new frame's point and albedo tests read its first hit: an edge pixel's mean of
+  // several samples (a hit and a miss: a depth between the surface and the far plane) is not
+  // one, so they read the frame sample's own for the time of the step.
+  this->SwapEdgeFirstHits(this->Frame, false);
+  // Edge pixels keep their new samples alone: their history lags behind the silhouette, which
+  // moves with the view (docs/temporal.md; the study switch PTV_EDGE_HISTORY=1 keeps it).
+  const char* keepEdgeHistory = std::getenv("PTV_EDGE_HISTORY");
+  const bool dropEdges = !(keepEdgeHistory && std::string(keepEdgeHistory) == "1");
+  const std::size_t edges = dropEdges ? this->EdgePixels.size() : 0;
+  std::vector<float> fresh(4 * edges);
+  const float* radiance = this->Frame.Data(PassRadiance);
+  const float* alpha = this->Frame.Data(PassAlpha);
+  for (std::size_t e = 0; e < edges; ++e)
+  {
+    const std::size_t i = this->EdgePixels[e];
+    std::copy(radiance + 3 * i, radiance + 3 * i + 3, fresh.data() + 4 * e);
+    fresh[4 * e + 3] = alpha[i];
+  }
+  this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
+    request.MaximumHistory, this->LastViewFrames, this->Accumulated, this->Frame,
+    request.Threads);
+  this->SwapEdgeFirstHits(this->Accumulated, false); // the frame's passes are there now
+  float* blended = this->Accumulated.Data(PassRadiance);
+  float* blendedAlpha = this->Accumulated.Data(PassAlpha);
+  for (std::size_t e = 0; e < edges; ++e)
+  {
+    const std::size_t i = this->EdgePixels[e];
+    std::copy(fresh.data() + 4 * e, fresh.data() + 4 * e + 3, blended + 3 * i);
+    blendedAlpha[i] = fresh[4 * e + 3];
+  }
+  this->History.DropHistory(this->EdgePixels.data(), edges);
 }
 
 //------------------------------------------------------------------------------

@@ -141,6 +141,9 @@ private:
   void Trace(const FrameRequest& request, FrameMessages& messages);
   /// The traced frame joins the accumulation (reprojected history, running mean, counts).
   void AccumulateFrame(const FrameRequest& request);
+  /// A moved view: the accumulation reprojected into the traced frame (ptvReprojection), the
+  /// edge pixels (ptvEdgeSamples) tested with their frame sample's first hit and kept fresh.
+  void ReprojectFrame(const FrameRequest& request);
   /// @a save: keep the edge pixels' Depth and Albedo of the frame sample in @a frame (before
   /// its edge samples); else exchange the kept ones with @a frame's (twice: back as they were).
   void SwapEdgeFirstHits(PassBuffers& frame, bool save);

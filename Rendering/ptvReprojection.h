@@ -27,6 +27,9 @@
  *     highlights, content behind the first event); a pan, a dolly or a zoom keeps the full cap;
  *  4. the new frame F joins the history H as the (n+1)-th frame: H + (F - H) / (n + 1), count
  *     n + 1. With n capped at M this is an exponential moving average of weight 1 / (M + 1).
+ * The frame loop (ptvFrameLoop.cxx) gives this step the edge pixels' (ptvEdgeSamples.h) Depth
+ * and Albedo of their frame sample, not the mean of their samples, and afterwards drops their
+ * history (DropHistory): their new samples resolve the silhouette that the history lags behind.
  * The other passes (the denoiser's auxiliary features and the tests' inputs) restart with the
  * view: one frame of them costs the denoiser ~0.3 dB against eight (measured on the head), and
  * carrying them too would cost more than the 5 % of a frame this step may take. Frames of an
