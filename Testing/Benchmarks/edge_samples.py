@@ -41,14 +41,9 @@ def parse_args() -> argparse.Namespace:
                    help="image sizes (default 256 512)")
     p.add_argument("--counts", nargs="+", type=int, default=[1, 2, 4, 8],
                    help="EdgeSamples values (default 1 2 4 8; 1 = none, the baseline)")
-    p.add_argument("--reference-spp", type=int, default=256, help="reference frames (256)")
     p.add_argument("--rounds", type=int, default=9, help="timing rounds (default 9)")
-    p.add_argument("--model", type=Path, default=ROOT / "Data" / "Models" / "guidenet.onnx",
-                   help="the model (default the shipped one)")
-    p.add_argument("--cache", type=Path, default=ROOT / ".cache" / "training" / "paper_views",
-                   help="rendered Table-1 views (default .cache/training/paper_views)")
-    p.add_argument("--json", type=Path, default=None)
-    p.add_argument("--markdown", type=Path, default=None)
+    from ptv_training.compare import add_paper_view_arguments
+    add_paper_view_arguments(p)
     return p.parse_args()
 
 

@@ -35,13 +35,8 @@ def parse_args() -> argparse.Namespace:
     p.add_argument("--size", type=int, default=256, help="image size (default 256)")
     p.add_argument("--counts", nargs="+", type=int, default=[1, 2],
                    help="EdgeSamples values (default 1 2)")
-    p.add_argument("--reference-spp", type=int, default=256, help="reference frames (256)")
-    p.add_argument("--model", type=Path, default=ROOT / "Data" / "Models" / "guidenet.onnx",
-                   help="the model (default the shipped one)")
-    p.add_argument("--cache", type=Path, default=ROOT / ".cache" / "training" / "paper_views",
-                   help="rendered Table-1 views (default .cache/training/paper_views)")
-    p.add_argument("--json", type=Path, default=None)
-    p.add_argument("--markdown", type=Path, default=None)
+    from ptv_training.compare import add_paper_view_arguments
+    add_paper_view_arguments(p)
     return p.parse_args()
 
 

@@ -33,13 +33,8 @@ def parse_args() -> argparse.Namespace:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--sizes", nargs="+", type=int, default=[256, 512],
                    help="image sizes (default 256 512)")
-    p.add_argument("--reference-spp", type=int, default=256, help="reference frames (256)")
-    p.add_argument("--model", type=Path, default=ROOT / "Data" / "Models" / "guidenet.onnx",
-                   help="the model (default the shipped one)")
-    p.add_argument("--cache", type=Path, default=ROOT / ".cache" / "training" / "paper_views",
-                   help="rendered Table-1 views (default .cache/training/paper_views)")
-    p.add_argument("--json", type=Path, default=None)
-    p.add_argument("--markdown", type=Path, default=None)
+    from ptv_training.compare import add_paper_view_arguments
+    add_paper_view_arguments(p)
     return p.parse_args()
 
 

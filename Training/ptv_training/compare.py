@@ -94,6 +94,19 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     return args
 
 
+def add_paper_view_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the benchmarks that denoise the Table-1 views (``paper_view``) with a
+    model: ``--reference-spp``, ``--model``, ``--cache``, ``--json``, ``--markdown``."""
+    p.add_argument("--reference-spp", type=int, default=256, help="reference frames (256)")
+    p.add_argument("--model", type=Path, default=REPO_ROOT / "Data" / "Models" / "guidenet.onnx",
+                   help="the model (default the shipped one)")
+    p.add_argument("--cache", type=Path,
+                   default=REPO_ROOT / ".cache" / "training" / "paper_views",
+                   help="rendered Table-1 views (default .cache/training/paper_views)")
+    p.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
+    p.add_argument("--markdown", type=Path, default=None, help="also write the tables")
+
+
 PAPER_DATASETS = ("head", "stent", "concrete")
 PAPER_CAMERAS = ((30.0, 10.0), (150.0, -20.0))
 PAPER_SEEDS = (1, 100003)  # input, reference: the evaluation report's
