@@ -7,6 +7,7 @@
 #include "vtkType.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace ptv
 {
@@ -63,6 +64,14 @@ std::vector<float> LatticeOffsets(int count)
     out[2 * k + 1] = static_cast<float>((k * best) % count) / static_cast<float>(count);
   }
   return out;
+}
+
+/// kEdgeHigh, or the study switch PTV_EDGE_HIGH (a value in (kEdgeLow, 1]; docs/edge-samples.md).
+float EdgeHigh()
+{
+  const char* value = std::getenv("PTV_EDGE_HIGH");
+  const float v = value ? static_cast<float>(std::atof(value)) : 0.f;
+  return v > kEdgeLow && v <= 1.f ? v : kEdgeHigh;
 }
 
 /// The edge pixels [e0, e1) of @a edges. Inlined into both builds below, like ptvCpuTracer's
@@ -166,6 +175,7 @@ void FindEdgePixels(
   // Per pixel: 1 where its column of three (rows y-1..y+1) has a high value, 2 a low one.
   std::vector<unsigned char> columns(w * static_cast<std::size_t>(height));
   std::vector<unsigned char> mask(columns.size());
+  const float high = EdgeHigh();
   ParallelFor(threads, 0, height, 16,
     [&](int y0, int y1)
     {
@@ -178,7 +188,7 @@ void FindEdgePixels(
           for (int yy = ya; yy <= yb; ++yy)
           {
             const float c = coverage[static_cast<std::size_t>(yy) * w + x];
-            bits |= (c >= kEdgeHigh ? 1 : 0) | (c < kEdgeLow ? 2 : 0);
+            bits |= (c >= high ? 1 : 0) | (c < kEdgeLow ? 2 : 0);
           }
           columns[static_cast<std::size_t>(y) * w + x] = bits;
         }
