@@ -63,6 +63,7 @@ def main() -> int:
     from ptv_training import compare, exr_io
     from ptv_training.evaluate import cpp_denoise
     from ptv_training.scene import Scene
+    from edge_samples import edge_mask
 
     names = list(exr_io.INPUT_PASSES) + ["Footprint"]
     rows: List[Dict[str, Any]] = []
@@ -72,6 +73,11 @@ def main() -> int:
             cached = compare.paper_view(ds, a.size, cam, a.reference_spp, a.cache)
             ref = cached["reference"]
             hit = cached["inputs"]["Alpha"][..., 0] > 0.5  # the frame's first sample
+            kinds = classes(ref, hit)
+            fringe = kinds["fringe, hit"] | kinds["fringe, missed"]
+            # the fringe that gets edge samples (the rule on the frame sample's Coverage)
+            edged = edge_mask(cached["inputs"]["Coverage"][..., 0])
+            fringe_edged = float(edged[fringe].mean()) if fringe.any() else float("nan")
             view = {"dataset": ds, "transfer_function": paper_preset(ds),
                     "azimuth": azimuth, "elevation": elevation}
             for count in a.counts:
@@ -85,8 +91,9 @@ def main() -> int:
                 error = ((tone(out) - tone(ref)) ** 2).mean(axis=-1)
                 total = float(error.sum())
                 row: Dict[str, Any] = {"dataset": ds, "camera": cam, "count": count,
-                                       "psnr": float(-10 * np.log10(error.mean()))}
-                for name, mask in classes(ref, hit).items():
+                                       "psnr": float(-10 * np.log10(error.mean())),
+                                       "fringe_with_edge_samples": fringe_edged}
+                for name, mask in kinds.items():
                     row[name] = {
                         "pixels": float(mask.mean()),
                         "error_share": float(error[mask].sum() / total),
@@ -96,7 +103,7 @@ def main() -> int:
                 rows.append(row)
                 print({k: v for k, v in row.items() if k in ("dataset", "camera", "count",
                                                              "psnr")}, flush=True)
-    kinds = list(classes(np.zeros((1, 1, 3)), np.zeros((1, 1), bool)))
+    kinds = list(classes(np.zeros((1, 1, 3)), np.zeros((1, 1), bool)))  # type: ignore[assignment]
     table = []
     for r in rows:
         cells = []
@@ -105,7 +112,7 @@ def main() -> int:
             shown = "" if c["mean"] is None else f", {c['mean']:.3f} / {c['reference_mean']:.3f}"
             cells.append(f"{100 * c['pixels']:.1f} % / {100 * c['error_share']:.1f} %{shown}")
         table.append([r["dataset"], str(r["camera"]), str(r["count"]), f"{r['psnr']:.2f}",
-                      *cells])
+                      f"{100 * r['fringe_with_edge_samples']:.0f} %", *cells])
     text = "\n".join([
         "# Where the denoised frame's error sits", "",
         f"Command: `{' '.join(sys.argv)}`", "",
@@ -115,8 +122,10 @@ def main() -> int:
         "after the tone map: empty (below 0.02), fringe (covered, an empty pixel in its 3x3 "
         "neighbourhood), interior; hit / missed: the frame's first sample met the volume or "
         "not. Each cell: share of the pixels / share of the squared error, mean tone-mapped "
-        "colour of the denoised frame / of the reference.", "",
-        *md_table(["dataset", "camera", "EdgeSamples", "PSNR", *kinds], table), ""])
+        "colour of the denoised frame / of the reference. 'fringe with edge samples': the "
+        "share of the fringe that the edge rule marks (on the frame sample's Coverage).", "",
+        *md_table(["dataset", "camera", "EdgeSamples", "PSNR", "fringe with edge samples",
+                   *kinds], table), ""])
     if a.markdown:
         write_text(a.markdown, text)
     if a.json:
