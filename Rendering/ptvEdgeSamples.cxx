@@ -74,16 +74,15 @@ float EdgeHigh()
   return v > kEdgeLow && v <= 1.f ? v : kEdgeHigh;
 }
 
-/// The edge pixels [e0, e1) of @a edges. Inlined into both builds below, like ptvCpuTracer's
-/// tiles, so each compiles the whole estimator for its instruction set.
-inline void TraceEdges(const TraceParams& params, unsigned int firstSample, int samples,
-  int edgeSamples, const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
-  PassBuffers& frame)
+/// The edge pixels [e0, e1) of @a edges, traced with @a p (the extra samples' stream); the
+/// frame samples' own jitter comes from @a frameSeed's. Inlined into both builds below, like
+/// ptvCpuTracer's tiles, so each compiles the whole estimator for its instruction set.
+inline void TraceEdges(const TraceParams& p, uint32_t frameSeed, unsigned int firstSample,
+  int samples, int edgeSamples, const float* offsets, const std::uint32_t* edges, vtkIdType e0,
+  vtkIdType e1, PassBuffers& frame)
 {
-  TraceParams p = params;
-  p.Seed = params.Seed ^ PcgHash(kEdgeStream);
   const TracedPassPlanes planes = frame.Planes();
-  const uint32_t width = static_cast<uint32_t>(params.Camera.Width);
+  const uint32_t width = static_cast<uint32_t>(p.Camera.Width);
   const float total = static_cast<float>(samples) * static_cast<float>(edgeSamples);
   for (vtkIdType e = e0; e < e1; ++e)
   {
@@ -92,16 +91,14 @@ inline void TraceEdges(const TraceParams& params, unsigned int firstSample, int 
     const int y = static_cast<int>(pixel / width);
     PixelSample acc = LoadSample(planes, pixel);
     ScaleSample(acc, static_cast<float>(samples)); // the frame's sum
-    // TracePixel's samples, with the corner ray's answer (the same for every sample of the
-    // pixel: it has no jitter) traced at most once.
-    float corner = -1.f;
+    float corner = -1.f; // step 4d's corner ray, traced at most once for the pixel
     for (int s = 0; s < samples; ++s)
     {
       const uint32_t frameSample = firstSample + static_cast<uint32_t>(s);
       // The frame sample's own jitter (TraceCameraRay's first two draws), which the extra
       // samples complete into a lattice shifted by it: each is uniform over the pixel, and
       // together they cover it evenly.
-      Rng main = MakeRng(pixel, frameSample, params.Seed);
+      Rng main = MakeRng(pixel, frameSample, frameSeed);
       const float mx = NextFloat(main);
       const float my = NextFloat(main);
       const uint32_t base = frameSample * kMaxEdgeSamples;
@@ -110,19 +107,7 @@ inline void TraceEdges(const TraceParams& params, unsigned int firstSample, int 
         const float sx = mx + offsets[2 * k];
         const float sy = my + offsets[2 * k + 1];
         const float jitter[2] = { sx < 1.f ? sx : sx - 1.f, sy < 1.f ? sy : sy - 1.f };
-        bool near;
-        PixelSample one =
-          TraceCameraRay(p, x, y, pixel, base + static_cast<uint32_t>(k), near, jitter);
-        if (p.FootprintRays)
-        {
-          const bool met = one.Depth1 < kHitFraction * p.Camera.FarDistance;
-          if (!met && near && corner < 0.f)
-          {
-            corner = CornerMeetsVolume(p, x, y, pixel);
-          }
-          one.Footprint = met ? 1.f : near ? corner : 0.f;
-        }
-        AddSample(acc, one);
+        AddSample(acc, TracePixel(p, x, y, base + static_cast<uint32_t>(k), jitter, &corner));
       }
     }
     ScaleSample(acc, 1.f / total);
@@ -130,23 +115,25 @@ inline void TraceEdges(const TraceParams& params, unsigned int firstSample, int 
   }
 }
 
-using EdgesFunction = void (*)(const TraceParams&, unsigned int, int, int, const float*,
-  const std::uint32_t*, vtkIdType, vtkIdType, PassBuffers&);
+using EdgesFunction = void (*)(const TraceParams&, uint32_t, unsigned int, int, int,
+  const float*, const std::uint32_t*, vtkIdType, vtkIdType, PassBuffers&);
 
 #ifdef PTV_HAS_AVX2_BUILD
 PTV_AVX2_TARGET __attribute__((flatten)) void TraceEdgesAvx2(const TraceParams& params,
-  unsigned int firstSample, int samples, int edgeSamples, const float* offsets,
-  const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, PassBuffers& frame)
+  uint32_t frameSeed, unsigned int firstSample, int samples, int edgeSamples,
+  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
+  PassBuffers& frame)
 {
-  TraceEdges(params, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
 }
 #endif
 
 __attribute__((flatten)) void TraceEdgesBaseline(const TraceParams& params,
-  unsigned int firstSample, int samples, int edgeSamples, const float* offsets,
-  const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, PassBuffers& frame)
+  uint32_t frameSeed, unsigned int firstSample, int samples, int edgeSamples,
+  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
+  PassBuffers& frame)
 {
-  TraceEdges(params, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
 }
 
 EdgesFunction SelectEdges(bool portable)
@@ -229,9 +216,14 @@ void TraceEdgeSamples(const TraceParams& params, unsigned int firstSample, int s
   edgeSamples = std::min(edgeSamples, kMaxEdgeSamples);
   const EdgesFunction trace = SelectEdges(portable);
   const std::vector<float> offsets = LatticeOffsets(edgeSamples);
+  TraceParams extra = params; // the extra samples' own stream
+  extra.Seed = params.Seed ^ PcgHash(kEdgeStream);
   const std::uint32_t* list = edges.data();
   ParallelFor(threads, vtkIdType(0), static_cast<vtkIdType>(edges.size()), vtkIdType(16),
     [&](vtkIdType e0, vtkIdType e1)
-    { trace(params, firstSample, samples, edgeSamples, offsets.data(), list, e0, e1, frame); });
+    {
+      trace(extra, params.Seed, firstSample, samples, edgeSamples, offsets.data(), list, e0, e1,
+        frame);
+    });
 }
 }

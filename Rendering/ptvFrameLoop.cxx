@@ -343,29 +343,10 @@ void FrameLoop::ReprojectFrame(const FrameRequest& request)
   // moves with the view (docs/temporal.md; the study switch PTV_EDGE_HISTORY=1 keeps it).
   const char* keepEdgeHistory = std::getenv("PTV_EDGE_HISTORY");
   const bool dropEdges = !(keepEdgeHistory && std::string(keepEdgeHistory) == "1");
-  const std::size_t edges = dropEdges ? this->EdgePixels.size() : 0;
-  std::vector<float> fresh(4 * edges);
-  const float* radiance = this->Frame.Data(PassRadiance);
-  const float* alpha = this->Frame.Data(PassAlpha);
-  for (std::size_t e = 0; e < edges; ++e)
-  {
-    const std::size_t i = this->EdgePixels[e];
-    std::copy(radiance + 3 * i, radiance + 3 * i + 3, fresh.data() + 4 * e);
-    fresh[4 * e + 3] = alpha[i];
-  }
   this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
     request.MaximumHistory, this->LastViewFrames, this->Accumulated, this->Frame,
-    request.Threads);
+    request.Threads, this->EdgePixels.data(), dropEdges ? this->EdgePixels.size() : 0);
   this->SwapEdgeFirstHits(this->Accumulated, false); // the frame's passes are there now
-  float* blended = this->Accumulated.Data(PassRadiance);
-  float* blendedAlpha = this->Accumulated.Data(PassAlpha);
-  for (std::size_t e = 0; e < edges; ++e)
-  {
-    const std::size_t i = this->EdgePixels[e];
-    std::copy(fresh.data() + 4 * e, fresh.data() + 4 * e + 3, blended + 3 * i);
-    blendedAlpha[i] = fresh[4 * e + 3];
-  }
-  this->History.DropHistory(this->EdgePixels.data(), edges);
 }
 
 //------------------------------------------------------------------------------

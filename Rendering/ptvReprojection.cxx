@@ -176,6 +176,8 @@ struct Reprojector
   float* OutRadiance;
   float* OutAlpha;
   float* OutCount;
+  /// Per pixel, 1: the new frame alone (count 1), whatever its history; nullptr: none.
+  const unsigned char* Fresh1 = nullptr;
 
   Reprojector(const CameraRays& prev, const CameraRays& cur)
     : Prev(prev)
@@ -272,9 +274,9 @@ struct Reprojector
         return 0;
       }
     }
-    if (!(this->Cap > 0.f))
+    if (!(this->Cap > 0.f) || (this->Fresh1 && this->Fresh1[i]))
     {
-      this->Fresh(i); // the camera turned too far for any history
+      this->Fresh(i); // the camera turned too far for any history, or the caller said so
       return 1;
     }
     const float fx = float(x), fy = float(y);
@@ -428,7 +430,7 @@ PTV_AVX2_TARGET __attribute__((flatten)) void ReprojectRowsAvx2(
 //------------------------------------------------------------------------------
 void Reprojection::Reproject(const CameraRays& previous, const CameraRays& current,
   float stepWorld, int maximumHistory, int previousFrames, PassBuffers& accumulated,
-  PassBuffers& frame, int threads)
+  PassBuffers& frame, int threads, const std::uint32_t* freshPixels, std::size_t freshCount)
 {
   const int width = current.Width;
   const int height = current.Height;
@@ -455,6 +457,18 @@ void Reprojection::Reproject(const CameraRays& previous, const CameraRays& curre
   r.OutRadiance = frame.Data(PassRadiance);
   r.OutAlpha = frame.Data(PassAlpha);
   r.OutCount = this->NewCounts.data();
+  if (freshCount > 0)
+  {
+    this->FreshMask.assign(n, 0);
+    for (std::size_t e = 0; e < freshCount; ++e)
+    {
+      if (freshPixels[e] < n)
+      {
+        this->FreshMask[freshPixels[e]] = 1;
+      }
+    }
+    r.Fresh1 = this->FreshMask.data();
+  }
 
   this->HitBegin.assign(static_cast<std::size_t>(height), width);
   this->HitEnd.assign(static_cast<std::size_t>(height), 0);
@@ -535,18 +549,6 @@ void Reprojection::Accumulate(
         }
       }
     });
-}
-
-//------------------------------------------------------------------------------
-void Reprojection::DropHistory(const std::uint32_t* pixels, std::size_t count)
-{
-  for (std::size_t e = 0; e < count && this->HasHistory(); ++e)
-  {
-    if (pixels[e] < this->Counts.size())
-    {
-      this->Counts[pixels[e]] = 1.0f;
-    }
-  }
 }
 
 //------------------------------------------------------------------------------

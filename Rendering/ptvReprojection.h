@@ -28,8 +28,9 @@
  *  4. the new frame F joins the history H as the (n+1)-th frame: H + (F - H) / (n + 1), count
  *     n + 1. With n capped at M this is an exponential moving average of weight 1 / (M + 1).
  * The frame loop (ptvFrameLoop.cxx) gives this step the edge pixels' (ptvEdgeSamples.h) Depth
- * and Albedo of their frame sample, not the mean of their samples, and afterwards drops their
- * history (DropHistory): their new samples resolve the silhouette that the history lags behind.
+ * and Albedo of their frame sample, not the mean of their samples, and has them keep the new
+ * frame alone (Reproject's fresh pixels): their new samples resolve the silhouette that the
+ * history lags behind.
  * The other passes (the denoiser's auxiliary features and the tests' inputs) restart with the
  * view: one frame of them costs the denoiser ~0.3 dB against eight (measured on the head), and
  * carrying them too would cost more than the 5 % of a frame this step may take. Frames of an
@@ -67,10 +68,11 @@ public:
    * Carry @a accumulated (seen by @a previous; @a previousFrames frames in every pixel unless
    * HasHistory()) into the view of @a current, and let @a frame (traced by @a current, same
    * size; its passes are taken, leaving it unspecified) join it as in the file comment. @a stepWorld is the march's step (for the tolerance).
+   * The @a freshCount pixels @a freshPixels take the new frame alone (count 1).
    */
   void Reproject(const CameraRays& previous, const CameraRays& current, float stepWorld,
     int maximumHistory, int previousFrames, PassBuffers& accumulated, PassBuffers& frame,
-    int threads);
+    int threads, const std::uint32_t* freshPixels = nullptr, std::size_t freshCount = 0);
 
   /**
    * A frame of the same view joins the accumulation: Radiance and Alpha each pixel's mean,
@@ -82,16 +84,13 @@ public:
   /// Write each pixel's frame count into @a out (@a frames everywhere without history).
   void WriteCounts(float* out, int pixels, int frames) const;
 
-  /// After Reproject: the @a count pixels @a pixels hold the new frame alone (count 1), their
-  /// history dropped (the caller restores their Radiance and Alpha).
-  void DropHistory(const std::uint32_t* pixels, std::size_t count);
-
   /// Fraction of the last Reproject()'s hit pixels (not misses) that kept a history (0..1).
   double GetReusedFraction() const { return this->Reused; }
 
 private:
   std::vector<float> Counts;
   std::vector<float> NewCounts;
+  std::vector<unsigned char> FreshMask; ///< Reproject's fresh pixels
   std::vector<int> HitBegin, HitEnd; ///< per row: the span of the new frame's hits
   double Reused = 0.0;
 };

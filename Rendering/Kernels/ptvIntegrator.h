@@ -472,17 +472,29 @@ PTV_HD PTV_INLINE PixelSample TraceCameraRay(const TraceParams& p, int x, int y,
 }
 
 /// One Monte Carlo sample of pixel (x, y) for sample (frame) index @a frame (see the file
-/// comment; p.Frame is not read).
-PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame)
+/// comment; p.Frame is not read). @a jitter as TraceCameraRay's. @a corner, when given, holds
+/// step 4d's corner ray answer for the pixel across its samples (it has no jitter): < 0 until
+/// a sample traces it, then reused (ptvEdgeSamples).
+PTV_HD PTV_INLINE PixelSample TracePixel(const TraceParams& p, int x, int y, uint32_t frame,
+  const float* jitter = nullptr, float* corner = nullptr)
 {
   const uint32_t pixel =
     static_cast<uint32_t>(y) * static_cast<uint32_t>(p.Camera.Width) + static_cast<uint32_t>(x);
   bool near;
-  PixelSample out = TraceCameraRay(p, x, y, pixel, frame, near);
+  PixelSample out = TraceCameraRay(p, x, y, pixel, frame, near, jitter);
   if (p.FootprintRays) // step 4d; a first event means the ray met opacity
   {
     const bool met = out.Depth1 < kHitFraction * p.Camera.FarDistance;
-    out.Footprint = met ? 1.f : near ? CornerMeetsVolume(p, x, y, pixel) : 0.f;
+    float answer = 0.f;
+    if (!met && near)
+    {
+      answer = corner && *corner >= 0.f ? *corner : CornerMeetsVolume(p, x, y, pixel);
+      if (corner)
+      {
+        *corner = answer;
+      }
+    }
+    out.Footprint = met ? 1.f : answer;
   }
   return out;
 }
