@@ -85,10 +85,7 @@ void MakeEdgeVolume(EdgeVolume& v)
   p.Scattering = 1;
   p.MaxDistance = nullptr;
   p.Seed = 99u;
-  ptv::BuildStepTables(p.Transfer, ptv::StepOverUnit(p, p.StepWorld),
-    ptv::StepOverUnit(p, ptv::ShadowStep(p)), v.StepTable, v.ShadowTable);
-  p.Transfer.StepRGBA = v.StepTable;
-  p.Transfer.ShadowAlpha = v.ShadowTable;
+  SetStepTables(p, v.StepTable, v.ShadowTable);
 }
 
 /// Every field but Footprint, for a bitwise comparison.
@@ -171,10 +168,7 @@ bool CheckThinLayer()
   p.Transfer.ScalarMin = 0.f;
   p.Transfer.ScalarMax = 63.f;
   p.StepWorld = 4.f / 21.f; // 4 voxels
-  ptv::BuildStepTables(p.Transfer, ptv::StepOverUnit(p, p.StepWorld),
-    ptv::StepOverUnit(p, ptv::ShadowStep(p)), step.data(), shadow.data());
-  p.Transfer.StepRGBA = step.data();
-  p.Transfer.ShadowAlpha = shadow.data();
+  SetStepTables(p, step.data(), shadow.data());
   p.FootprintRays = 1;
   std::vector<int> counts(65);
   ptv::BuildOpaqueCounts(table.data(), 64, counts.data());

@@ -117,10 +117,7 @@ void MakeSlab(Slab& s)
   p.MaxDistance = nullptr;
   p.Seed = 1234u;
   // As the mapper does (FrameInputs::SetStepTables): opacities corrected once per entry.
-  ptv::BuildStepTables(p.Transfer, ptv::StepOverUnit(p, p.StepWorld),
-    ptv::StepOverUnit(p, ptv::ShadowStep(p)), s.StepTable, s.ShadowTable);
-  p.Transfer.StepRGBA = s.StepTable;
-  p.Transfer.ShadowAlpha = s.ShadowTable;
+  SetStepTables(p, s.StepTable, s.ShadowTable);
 }
 
 /// The slab with a key light and occluded environment, traced with the step-corrected tables
