@@ -227,9 +227,12 @@ public:
    * stream of their own, so every other pixel and pass is unchanged and each pixel's mean still
    * converges to the same image. On the evaluation's views 1-3 % of the pixels are edges
    * (stent 5-11 %); 2 samples there add 0.7-1.0 dB to the denoised frame for 6-13 % of the
-   * trace time (stent 0.4-0.6 dB for 26-35 %; docs/edge-samples.md). Edge samples are traced
-   * on the CPU, also when the CUDA backend traced the frame, and not for a DistributedVolume
-   * with several processes (whose pieces are composited sample by sample).
+   * trace time (stent 0.4-0.6 dB for 26-35 %; docs/edge-samples.md). When the camera moves
+   * (TemporalReprojection), edge pixels start again from the new frame: their history lags
+   * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
+   * traced the frame; with several processes holding the whole volume by process 0 for all of
+   * them; not for a DistributedVolume split across processes (whose pieces are composited
+   * sample by sample).
    */
   vtkSetClampMacro(EdgeSamples, int, 1, 64);
   vtkGetMacro(EdgeSamples, int);
