@@ -47,15 +47,6 @@ def parse_args() -> argparse.Namespace:
     return p.parse_args()
 
 
-def edge_mask(coverage: np.ndarray) -> np.ndarray:
-    """The edge pixels of a frame's Coverage pass (ptvEdgeSamples.h's rule): a 3x3
-    neighbourhood, clamped at the border, with a value >= 0.5 and one below 0.05."""
-    from scipy.ndimage import maximum_filter
-    high = maximum_filter(coverage >= 0.5, size=3, mode="nearest")
-    low = maximum_filter(coverage < 0.05, size=3, mode="nearest")
-    return high & low
-
-
 def frame(scene: Any, view: Dict[str, Any], seed: int, count: int) -> Any:
     """A fresh 1-spp frame of ``view`` with EdgeSamples ``count``; returns the mapper."""
     mapper = scene.set_view(view, seed=seed, max_frames=1, footprint=True)
@@ -70,6 +61,7 @@ def main() -> int:
     from evaluation.common import md_table
     from pathtracedvolume.atomic import write_text
     from pathtracedvolume.metrics import psnr
+    from pathtracedvolume.edges import edge_mask
     from pathtracedvolume.scene import paper_preset
     from ptv_training import compare, exr_io
     from ptv_training.evaluate import cpp_denoise

@@ -63,7 +63,7 @@ def main() -> int:
     from ptv_training import compare, exr_io
     from ptv_training.evaluate import cpp_denoise
     from ptv_training.scene import Scene
-    from edge_samples import edge_mask
+    from pathtracedvolume.edges import edge_mask
 
     names = list(exr_io.INPUT_PASSES) + ["Footprint"]
     rows: List[Dict[str, Any]] = []

@@ -14,19 +14,11 @@ pytest.importorskip("pathtracedvolume")
 from ptv_wavelet_scene import get_pass, wavelet_scene  # noqa: E402
 
 import pathtracedvolume.vtkPTVRendering as ptv  # noqa: E402
+from pathtracedvolume.edges import edge_mask  # noqa: E402
 
 SIZE = (48, 36)  # (W, H)
 TRACED = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal", "ScatterDepth",
           "ScatterPosition", "ScatterNormal", "Coverage", "Footprint"]
-
-
-def edge_mask(coverage: np.ndarray) -> np.ndarray:
-    """The documented rule on a (H, W) Coverage image: a 3x3 neighbourhood (clamped at the
-    border) with a value >= 0.5 and one < 0.05."""
-    c = np.pad(coverage, 1, mode="edge")
-    h, w = coverage.shape
-    windows = np.stack([c[dy:dy + h, dx:dx + w] for dy in range(3) for dx in range(3)])
-    return np.any(windows >= 0.5, axis=0) & np.any(windows < 0.05, axis=0)
 
 
 def render(count: int, compute: bool, denoise: bool = False, seed: int = 3,

@@ -184,3 +184,41 @@ def test_aux_spp_takes_every_pass_but_radiance_from_the_longer_accumulation(
                       HistoryLength=np.full((6, 5, 1), spp, np.float32))
         assert torch.equal(b.features, torch.from_numpy(build_features(passes, PAPER_10)))
         assert torch.equal(a.features, b.features) == (spp == 4)
+
+
+def test_edge_samples_take_the_edge_pixels_from_the_longer_accumulation(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """``train.py --edge-samples 2``: a 1-spp sample's edge pixels (its Coverage's, the mapper's
+    rule) take every pass from the 2-spp accumulation, a 2-spp sample's from the 4-spp one; all
+    other pixels, the 4-spp sample (no 8-spp accumulation) and edge_samples 0 are unchanged."""
+    import torch
+
+    from pathtracedvolume.edges import edge_mask
+    from ptv_training import data
+    from ptv_training.exr_io import PASS_CHANNELS
+
+    rng = np.random.default_rng(4)
+    h, w = 9, 8
+    inputs = {spp: {name: rng.uniform(0.1, 1.0, (h, w, len(ch))).astype(np.float32)
+                    for name, ch in PASS_CHANNELS.items()} for spp in (1, 2, 4)}
+    for spp in inputs:  # an opaque block in empty space: its rim and the ring around it are edges
+        coverage = np.zeros((h, w, 1), np.float32)
+        coverage[3:6, 2:5] = 0.9
+        inputs[spp]["Coverage"] = coverage
+    image = rng.uniform(0.1, 1.0, (h, w, 3)).astype(np.float32)
+    view = {"inputs": inputs, "reference": image, "spp16": image, "view": {"dataset": "toy"}}
+    monkeypatch.setattr(data.exr_io, "read_view", lambda path: view)
+
+    mask = edge_mask(inputs[1]["Coverage"][..., 0])
+    assert mask.sum() == 5 * 5 - 1 and not mask[4, 3]  # the ring around the block, its rim
+    plain = data.load_samples([Path("toy_000.exr")], ["coverage"], (1, 2, 4), keep_passes=True)
+    edged = data.load_samples([Path("toy_000.exr")], ["coverage"], (1, 2, 4), keep_passes=True,
+                              edge_samples=2)
+    for spp, a, b in zip((1, 2, 4), plain, edged):
+        for name in PASS_CHANNELS:
+            more = inputs[2 * spp][name] if spp < 4 else inputs[spp][name]
+            np.testing.assert_array_equal(b.passes[name][mask], more[mask])
+            np.testing.assert_array_equal(b.passes[name][~mask], inputs[spp][name][~mask])
+            np.testing.assert_array_equal(a.passes[name], inputs[spp][name])
+        assert torch.equal(b.radiance, data.chw(b.passes["Radiance"]))
+        assert (b.passes["HistoryLength"] == spp).all()

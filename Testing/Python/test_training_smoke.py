@@ -107,11 +107,19 @@ def test_generate_train_export_and_load_in_cpp(tmp_path: Path, volume_path) -> N
     model_file = tmp_path / "model.onnx"
     assert train.main(["--data", str(data), "--out", str(run), "--val-per-dataset", "1",
                        "--hidden", "4", "--batch", "2", "--max-steps", "3", "--threads", "2",
-                       "--export", str(model_file), "--no-progress"]) == 0
+                       "--edge-samples", "2", "--export", str(model_file),
+                       "--no-progress"]) == 0
     log = (run / "log.csv").read_text().splitlines()
     assert len(log) >= 2 and log[0].startswith("epoch,")
     assert (run / "best.pt").is_file() and (run / "guides_best.png").is_file()
     assert model_file.is_file() and model_file.stat().st_size < 1 << 20
+    # evaluate.py: the C++ path against torch on the validation views' edge-sampled inputs (the
+    # run's --edge-samples), the model card
+    assert json.loads((run / "run.json").read_text())["args"]["edge_samples"] == 2
+    card = tmp_path / "card.json"
+    assert evaluate.main(["--run", str(run), "--model", str(model_file), "--card", str(card),
+                          "--threads", "2"]) == 0
+    assert json.loads(card.read_text())["training"]["command"]
 
     # --extra-data: every view of another folder (generated with --val-views 0, another seed)
     # joins the training split; validation stays --data's; a folder with validation views is

@@ -59,10 +59,11 @@ class Sample:
 
 def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[int] = (1, 2, 4),
                  keep_passes: bool = False, progress: bool = False,
-                 aux_spp: int = 0) -> List[Sample]:
+                 aux_spp: int = 0, edge_samples: int = 0) -> List[Sample]:
     """Samples for every file and spp (in that order). ``aux_spp`` > 0: every still sample of
     fewer spp takes its auxiliary passes (all but Radiance) from the view's ``aux_spp``
-    accumulation (:func:`with_aux_passes`)."""
+    accumulation (:func:`with_aux_passes`). ``edge_samples`` K > 1: the input the mapper
+    denoises with EdgeSamples K (:func:`with_edge_samples`) wherever the view has it."""
     from tqdm import tqdm
 
     samples: List[Sample] = []
@@ -75,6 +76,8 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
             passes = sample_passes(view, Path(path), spp)
             if aux_spp and spp != HISTORY_SPP and spp < aux_spp:
                 passes = with_aux_passes(passes, view["inputs"][aux_spp])
+            if edge_samples > 1 and spp != HISTORY_SPP and spp * edge_samples in view["inputs"]:
+                passes = with_edge_samples(passes, view["inputs"][spp * edge_samples])
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
@@ -109,6 +112,26 @@ def with_aux_passes(passes: Dict[str, np.ndarray], aux: Dict[str, np.ndarray]
     out = dict(passes)
     out.update({name: image for name, image in aux.items()
                 if name not in ("Radiance", "HistoryLength")})
+    return out
+
+
+def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray]
+                      ) -> Dict[str, np.ndarray]:
+    """``passes`` (s spp) with the edge pixels of its Coverage (the mapper's rule,
+    :func:`pathtracedvolume.edges.edge_mask`) taking every pass from ``more``, the same seed's
+    accumulation of K s samples: what the mapper denoises with EdgeSamples K, whose edge pixels
+    hold K samples per frame. Two differences, both small: the mapper's extra samples complete
+    the frame sample's jitter into a lattice (here the next frames' independent jitters; at
+    EdgeSamples 2 a lattice is worth 0.1-0.2 dB more, ``Testing/Benchmarks/results/
+    edge_samples.md``), and above 1 spp it finds the edges in each frame, here in the s-spp
+    mean. HistoryLength stays the frame count."""
+    from pathtracedvolume.edges import edge_mask
+
+    mask = edge_mask(passes["Coverage"][..., 0])
+    out = dict(passes)
+    for name, image in more.items():
+        if name in out and name != "HistoryLength":
+            out[name] = np.where(mask[..., None], image, out[name])
     return out
 
 

@@ -248,6 +248,11 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="study: samples of fewer spp take their auxiliary passes from this "
                         "spp's accumulation (anti-aliased features; the C++ mapper has no such "
                         "input yet; default 0: off)")
+    p.add_argument("--edge-samples", type=int, default=0, metavar="K",
+                   help="train on the input the mapper denoises with EdgeSamples K: a sample "
+                        "of s spp takes its edge pixels (data.with_edge_samples) from the "
+                        "view's K*s-spp accumulation where the view has one (default 0: off, "
+                        "the plain accumulation; the mapper's default is 2)")
     p.add_argument("--val-per-dataset", type=int, default=3,
                    help="views per dataset held out for validation (default 3)")
     p.add_argument("--exclude", nargs="*", default=[], metavar="DATASET",
@@ -355,8 +360,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                              "--val-views 0")
         train_files += without_excluded(more, extra, more_manifest)
     progress = not args.no_progress
-    train = load_samples(train_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
-    val = load_samples(val_files, channels, spps, progress=progress, aux_spp=args.aux_spp)
+    train = load_samples(train_files, channels, spps, progress=progress, aux_spp=args.aux_spp,
+                         edge_samples=args.edge_samples)
+    val = load_samples(val_files, channels, spps, progress=progress, aux_spp=args.aux_spp,
+                       edge_samples=args.edge_samples)
     if not train:
         raise SystemExit("no training views")
 
