@@ -73,11 +73,9 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
         dataset = str(meta.get("dataset", Path(path).stem.split("_")[0]))
         reference, spp16 = chw(view["reference"]), chw(view["spp16"])  # shared by the spps
         for spp in spps:
-            passes = sample_passes(view, Path(path), spp)
+            passes = sample_passes(view, Path(path), spp, edge_samples)
             if aux_spp and spp != HISTORY_SPP and spp < aux_spp:
                 passes = with_aux_passes(passes, view["inputs"][aux_spp])
-            if edge_samples > 1 and spp != HISTORY_SPP and spp * edge_samples in view["inputs"]:
-                passes = with_edge_samples(passes, view["inputs"][spp * edge_samples])
             samples.append(Sample(
                 name=Path(path).stem, dataset=dataset, spp=spp,
                 features=torch.from_numpy(build_features(passes, channels)),
@@ -92,11 +90,15 @@ def load_samples(files: Sequence[Path], channels: Sequence[str], spps: Sequence[
 HISTORY_SPP = 0
 
 
-def sample_passes(view: Dict, path: Path, spp: int) -> Dict[str, np.ndarray]:
+def sample_passes(view: Dict, path: Path, spp: int, edge_samples: int = 0
+                  ) -> Dict[str, np.ndarray]:
     """The input passes of one (view, spp) sample of ``view`` (``exr_io.read_view(path)``), with
     a HistoryLength pass: the reprojected history's own for spp 0, ``spp`` frames everywhere
-    for a still accumulation."""
+    for a still accumulation. ``edge_samples`` K > 1: a still sample's edge pixels from the
+    view's K spp-spp accumulation where it has one (:func:`with_edge_samples`)."""
     passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(path)
+    if edge_samples > 1 and spp != HISTORY_SPP and spp * edge_samples in view["inputs"]:
+        passes = with_edge_samples(passes, view["inputs"][spp * edge_samples])
     if "HistoryLength" not in passes:
         passes = dict(passes)
         passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),

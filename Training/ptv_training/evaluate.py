@@ -38,7 +38,7 @@ if __package__ in (None, ""):  # run as a file
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
-from .data import HISTORY_SPP, chw, psnr, sample_passes, with_edge_samples  # noqa: E402
+from .data import HISTORY_SPP, chw, psnr, sample_passes  # noqa: E402
 from .bilateral_grid import automatic_levels  # noqa: E402
 from .features import build_features, required_passes  # noqa: E402
 from .guidenet import GuideNet, count_parameters, macs_per_pixel  # noqa: E402
@@ -182,7 +182,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     default_levels = int(props["ptv.default_levels"]) if "ptv.default_levels" in props else None
 
     # A model trained on the mapper's edge-sampled input (train.py --edge-samples K) is
-    # evaluated on it too: an s-spp input's edge pixels from the K s-spp accumulation (data).
+    # evaluated on it too (data.sample_passes).
     edge_samples = int(info.get("args", {}).get("edge_samples", 0))
     rows: List[Dict[str, Any]] = []
     worst = 0.0
@@ -190,9 +190,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         view = exr_io.read_view(data_dir / name)
         ref = view["reference"]
         for spp in info["spp"]:
-            passes = sample_passes(view, data_dir / name, spp)
-            if edge_samples > 1 and spp * edge_samples in view["inputs"]:
-                passes = with_edge_samples(passes, view["inputs"][spp * edge_samples])
+            passes = sample_passes(view, data_dir / name, spp, edge_samples)
             c = cpp_denoise(args.model, passes, names, args.threads)
             if not c["network_active"]:
                 raise RuntimeError(f"the network is not active: {c['status']}")
