@@ -21,7 +21,7 @@ def test_noise_figure_of_clean_noisy_and_uncovered_pixels() -> None:
     covered = np.zeros((h, w, 1), np.float32)
     covered[:, : w // 2] = 1.0  # the left half; the right half must not count
     spread, noise = 2.0, 0.5
-    four = {"Alpha": covered,
+    four = {"Alpha": covered, "Coverage": covered,
             "Radiance": rng.normal(1.0, spread, (h, w, 3)).astype(np.float32),
             "Albedo": rng.uniform(0, 1, (h, w, 3)).astype(np.float32),
             "Depth": rng.normal(5.0, spread, (h, w, 1)).astype(np.float32),
@@ -32,6 +32,8 @@ def test_noise_figure_of_clean_noisy_and_uncovered_pixels() -> None:
     one["Radiance"][:, w // 2:] += 1e6  # uncovered: ignored
     figures = feature_noise.noise_figures({1: one, 4: four})
     assert figures["covered"] == pytest.approx(0.5)
+    # The edge rule marks the covered column beside the empty half: 1 of 50 covered columns.
+    assert figures["edges"] == pytest.approx(1 / 50)
     assert figures["Albedo"] == 0.0 and figures["Radiance"] == 0.0
     # 10^4 (depth) and 3 x 10^4 (normal) samples: the figures' relative sampling error is
     # about 1 %, so 5 % bounds them.

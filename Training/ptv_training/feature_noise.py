@@ -10,8 +10,10 @@ noise figure of each pass is
 the 1-spp sample's deviation from the view's 4-spp accumulation (which contains it: the
 generated accumulations are nested) in units of the image's own spatial spread. Near 0: a
 clean feature a guide can follow; near or above the colour's: as noisy as what it should
-smooth. ``--views-dir`` may also hold training views (``generate.py``'s, grouped as
-"training", summarised by their mean and maximum). Writes ``<results>/feature_noise.md`` and
+smooth. Also the share of those pixels that the mapper's edge rule (``pathtracedvolume.edges``,
+on the 1-spp Coverage) gives edge samples: there the frame holds two samples whose
+disagreement a denoiser could read. ``--views-dir`` may also hold training views
+(``generate.py``'s, grouped as "training", summarised by their mean and maximum). Writes ``<results>/feature_noise.md`` and
 ``.json`` atomically; needs no rendering.
 
     .venv/bin/python Training/ptv_training/feature_noise.py \
@@ -34,6 +36,7 @@ if __package__ in (None, ""):  # run as a file
     __package__ = "ptv_training"
 
 from pathtracedvolume.atomic import write_text  # noqa: E402
+from pathtracedvolume.edges import edge_mask  # noqa: E402
 
 from . import exr_io  # noqa: E402
 from .heldout import REPO_ROOT, SHAPES  # noqa: E402
@@ -49,7 +52,8 @@ def noise_figures(inputs: Dict[int, Dict[str, np.ndarray]]) -> Dict[str, float]:
     covered = four["Alpha"][..., 0] > COVERED_ALPHA
     out: Dict[str, float] = {"covered": float(covered.mean())}
     if covered.sum() < 2:  # nothing covered: no figure
-        return {**out, **{name: float("nan") for name in PASSES}}
+        return {**out, "edges": float("nan"), **{name: float("nan") for name in PASSES}}
+    out["edges"] = float(edge_mask(one["Coverage"][..., 0])[covered].mean())
     for name in PASSES:
         a = one[name][covered].astype(np.float64)
         b = four[name][covered].astype(np.float64)
@@ -92,23 +96,26 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
              f"--views-dir {' '.join(_shown(d) for d in args.views_dir)}` ({len(rows)} views). "
              "Per pass: rms(1-spp - 4-spp) / std(4-spp) "
              f"over the pixels with 4-spp Alpha > {COVERED_ALPHA} (module doc); near 0 a clean "
-             "feature, near the colour's as noisy as the colour.", "",
-             "| shape | dataset | covered | " + " | ".join(PASSES) + " |",
-             "|---|---|---|" + "---|" * len(PASSES)]
+             "feature, near the colour's as noisy as the colour. 'edge pixels': the share of "
+             "those pixels with edge samples.", "",
+             "| shape | dataset | covered | edge pixels | " + " | ".join(PASSES) + " |",
+             "|---|---|---|---|" + "---|" * len(PASSES)]
     for shape in SHAPES + ("training",):
         group = [r for r in rows if r["shape"] == shape]
         if not group:
             continue
         if shape == "training":  # hundreds of views: their spread, not each one
-            lines.append(f"| training | max of {len(group)} views | | " + " | ".join(
+            lines.append(f"| training | max of {len(group)} views | | | " + " | ".join(
                 f"{np.nanmax([r[n] for r in group]):.2f}" for n in PASSES) + " |")
-            lines.append("| training | share of views above 1 | | " + " | ".join(
+            lines.append("| training | share of views above 1 | | | " + " | ".join(
                 f"{np.mean([r[n] > 1 for r in group]):.1%}" for n in PASSES) + " |")
         else:
             for r in group:
-                lines.append(f"| {shape} | {r['dataset']} | {r['covered']:.3f} | " +
+                lines.append(f"| {shape} | {r['dataset']} | {r['covered']:.3f} | "
+                             f"{r['edges']:.0%} | " +
                              " | ".join(f"{r[n]:.2f}" for n in PASSES) + " |")
-        lines.append(f"| {shape} | **mean** | | " + " | ".join(
+        lines.append(f"| {shape} | **mean** | | {np.nanmean([r['edges'] for r in group]):.0%} | "
+                     + " | ".join(
             f"**{np.nanmean([r[n] for r in group]):.2f}**" for n in PASSES) + " |")
     args.results.mkdir(parents=True, exist_ok=True)
     write_text(args.results / "feature_noise.md", "\n".join(lines) + "\n")
