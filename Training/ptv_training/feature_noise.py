@@ -13,8 +13,8 @@ clean feature a guide can follow; near or above the colour's: as noisy as what i
 smooth. Also the share of those pixels that the mapper's edge rule (``pathtracedvolume.edges``,
 on the 1-spp Coverage) gives edge samples: there the frame holds two samples whose
 disagreement a denoiser could read. ``--views-dir`` may also hold training views
-(``generate.py``'s, grouped as "training", summarised by their mean and maximum). Writes ``<results>/feature_noise.md`` and
-``.json`` atomically; needs no rendering.
+(``generate.py``'s, grouped as "training", summarised by their mean and maximum). Writes
+``<results>/feature_noise.md`` and ``.json`` atomically; needs no rendering.
 
     .venv/bin/python Training/ptv_training/feature_noise.py \
         --views-dir .cache/training/heldout .cache/training/v2
