@@ -1,9 +1,9 @@
 """CLI: how noisy the 1-spp auxiliary features of the held-out views are, next to the colour's.
 
 GuideNet's guide follows the auxiliary features (albedo, depth, normal of the sampled event);
-it can do that only where they are cleaner than the colour. For every held-out view that
-``heldout.py`` rendered (``--views-dir``), over the pixels whose 4-spp Alpha is above 0.5, the
-noise figure of each pass is
+it can do that only where they are cleaner than the colour. For every view in ``--views-dir``
+(``heldout.py``'s rendered held-out views by default), over the pixels whose 4-spp Alpha is
+above 0.5, the noise figure of each pass is
 
     rms(1-spp pass - 4-spp pass) / std(4-spp pass over those pixels),
 
@@ -17,7 +17,7 @@ disagreement a denoiser could read. ``--views-dir`` may also hold training views
 ``<results>/feature_noise.md`` and ``.json`` atomically; needs no rendering.
 
     .venv/bin/python Training/ptv_training/feature_noise.py \
-        --views-dir .cache/training/heldout .cache/training/v2
+        --views-dir .cache/training/heldout .cache/training/v2 .cache/training/presets
 """
 from __future__ import annotations
 
@@ -62,6 +62,11 @@ def noise_figures(inputs: Dict[int, Dict[str, np.ndarray]]) -> Dict[str, float]:
     return out
 
 
+def _row(*cells: object) -> str:
+    """One Markdown table row (an empty cell as "| |")."""
+    return "|" + "|".join(f" {c} " if c != "" else " " for c in cells) + "|"
+
+
 def _shown(path: Path) -> str:
     """``path`` relative to the repository when inside it (the command line as typed)."""
     try:
@@ -98,25 +103,22 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
              f"over the pixels with 4-spp Alpha > {COVERED_ALPHA} (module doc); near 0 a clean "
              "feature, near the colour's as noisy as the colour. 'edge pixels': the share of "
              "those pixels with edge samples.", "",
-             "| shape | dataset | covered | edge pixels | " + " | ".join(PASSES) + " |",
+             _row("shape", "dataset", "covered", "edge pixels", *PASSES),
              "|---|---|---|---|" + "---|" * len(PASSES)]
     for shape in SHAPES + ("training",):
         group = [r for r in rows if r["shape"] == shape]
         if not group:
             continue
         if shape == "training":  # hundreds of views: their spread, not each one
-            lines.append(f"| training | max of {len(group)} views | | | " + " | ".join(
-                f"{np.nanmax([r[n] for r in group]):.2f}" for n in PASSES) + " |")
-            lines.append("| training | share of views above 1 | | | " + " | ".join(
-                f"{np.mean([r[n] > 1 for r in group]):.1%}" for n in PASSES) + " |")
+            lines.append(_row("training", f"max of {len(group)} views", "", "", *(
+                f"{np.nanmax([r[n] for r in group]):.2f}" for n in PASSES)))
+            lines.append(_row("training", "share of views above 1", "", "", *(
+                f"{np.mean([r[n] > 1 for r in group]):.1%}" for n in PASSES)))
         else:
-            for r in group:
-                lines.append(f"| {shape} | {r['dataset']} | {r['covered']:.3f} | "
-                             f"{r['edges']:.0%} | " +
-                             " | ".join(f"{r[n]:.2f}" for n in PASSES) + " |")
-        lines.append(f"| {shape} | **mean** | | {np.nanmean([r['edges'] for r in group]):.0%} | "
-                     + " | ".join(
-            f"**{np.nanmean([r[n] for r in group]):.2f}**" for n in PASSES) + " |")
+            lines += [_row(shape, r["dataset"], f"{r['covered']:.3f}", f"{r['edges']:.0%}",
+                           *(f"{r[n]:.2f}" for n in PASSES)) for r in group]
+        lines.append(_row(shape, "**mean**", "", f"{np.nanmean([r['edges'] for r in group]):.0%}",
+                          *(f"**{np.nanmean([r[n] for r in group]):.2f}**" for n in PASSES)))
     args.results.mkdir(parents=True, exist_ok=True)
     write_text(args.results / "feature_noise.md", "\n".join(lines) + "\n")
     write_text(args.results / "feature_noise.json", json.dumps(rows, indent=1) + "\n")
