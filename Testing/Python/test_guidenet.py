@@ -273,6 +273,8 @@ def synthetic_passes(h: int, w: int, seed: int, far: float = 10.0):
         # the camera ray's opacity: fractional, at least Alpha's support; out of [0, 1] at two
         # pixels (the channel clips)
         "Coverage": where(hit, np.maximum(scatter, rng.uniform(-0.1, 1.1, (h, w))), 0.0)[..., None],
+        # the study pass: world distances, some beyond the depth range (the channel clips)
+        "DepthSpread": where(hit, rng.uniform(0.0, 4.0, (h, w)), 0.0)[..., None],
     }
     return passes, hit, scatter
 
@@ -338,6 +340,11 @@ def test_build_features_shapes_ranges_and_misses() -> None:
                                atol=1e-6)
     assert plane["scatter_depth"][scatter].min() == 0.0
     assert plane["scatter_depth"][scatter].max() == 1.0
+    # depth_spread: the spread over the depth channel's range of hits, clipped
+    spread = passes["DepthSpread"][:, :, 0]
+    np.testing.assert_allclose(plane["depth_spread"],
+                               np.clip(spread / (d[hit].max() - d[hit].min()), 0, 1), atol=1e-6)
+    assert plane["depth_spread"].max() == 1.0 and (plane["depth_spread"][~hit] == 0.0).all()
 
     # Channel order follows the request; presets work; (H, W) single-channel passes work.
     sub = F.build_features(passes, ["depth", "color.r"])

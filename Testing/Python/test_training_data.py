@@ -222,3 +222,16 @@ def test_edge_samples_take_the_edge_pixels_from_the_longer_accumulation(
             np.testing.assert_array_equal(a.passes[name], inputs[spp][name])
         assert torch.equal(b.radiance, data.chw(b.passes["Radiance"]))
         assert (b.passes["HistoryLength"] == spp).all()
+        # DepthSpread: |frame samples' depth - the other samples' mean| on edges where both
+        # hit (below 0.999 of the largest depth), 0 elsewhere and without edge samples
+        assert (a.passes["DepthSpread"] == 0).all()
+        if spp < 4:
+            d_a = inputs[spp]["Depth"][..., 0]
+            d_b = 2 * inputs[2 * spp]["Depth"][..., 0] - d_a
+            far = 0.999 * max(d_a.max(), inputs[2 * spp]["Depth"].max())
+            both = mask & (d_a < far) & (d_b < far)
+            assert both.sum() >= 10
+            np.testing.assert_allclose(b.passes["DepthSpread"][..., 0],
+                                       np.where(both, np.abs(d_a - d_b), 0), atol=1e-6)
+        else:
+            assert (b.passes["DepthSpread"] == 0).all()

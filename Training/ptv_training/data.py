@@ -98,7 +98,10 @@ def sample_passes(view: Dict, path: Path, spp: int, edge_samples: int = 0
     view's K spp-spp accumulation where it has one (:func:`with_edge_samples`)."""
     passes = view["inputs"][spp] if spp != HISTORY_SPP else _history_passes(path)
     if edge_samples > 1 and spp != HISTORY_SPP and spp * edge_samples in view["inputs"]:
-        passes = with_edge_samples(passes, view["inputs"][spp * edge_samples])
+        passes = with_edge_samples(passes, view["inputs"][spp * edge_samples], edge_samples)
+    if "DepthSpread" not in passes:  # no edge samples: no disagreement measured
+        passes = dict(passes)
+        passes["DepthSpread"] = np.zeros(passes["Radiance"].shape[:2] + (1,), np.float32)
     if "HistoryLength" not in passes:
         passes = dict(passes)
         passes["HistoryLength"] = np.full(passes["Radiance"].shape[:2] + (1,),
@@ -117,8 +120,8 @@ def with_aux_passes(passes: Dict[str, np.ndarray], aux: Dict[str, np.ndarray]
     return out
 
 
-def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray]
-                      ) -> Dict[str, np.ndarray]:
+def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray],
+                      samples: int = 2) -> Dict[str, np.ndarray]:
     """``passes`` (s spp) with the edge pixels of its Coverage (the mapper's rule,
     :func:`pathtracedvolume.edges.edge_mask`) taking every pass from ``more``, the same seed's
     accumulation of K s samples: what the mapper denoises with EdgeSamples K, whose edge pixels
@@ -126,7 +129,12 @@ def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray]
     the frame sample's jitter into a lattice (here the next frames' independent jitters; at
     EdgeSamples 2 a lattice is worth 0.1-0.2 dB more, ``Testing/Benchmarks/results/
     edge_samples.md``), and above 1 spp it finds the edges in each frame, here in the s-spp
-    mean. HistoryLength stays the frame count."""
+    mean. HistoryLength stays the frame count.
+
+    Also a study pass ``DepthSpread`` (``features.py``, ``noise_aware.py``): on the edge
+    pixels |dA - dB| between the first-event depth of the frame's own samples (A, ``passes``)
+    and the mean of the ``samples`` - 1 others (B, from ``more``) where both hit, 0 elsewhere:
+    the disagreement the mapper's edge samples could measure per pixel."""
     from pathtracedvolume.edges import edge_mask
 
     mask = edge_mask(passes["Coverage"][..., 0])
@@ -134,7 +142,22 @@ def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray]
     for name, image in more.items():
         if name in out and name != "HistoryLength":
             out[name] = np.where(mask[..., None], image, out[name])
+    out["DepthSpread"] = _depth_spread(passes["Depth"], more["Depth"], samples, mask)
     return out
+
+
+def _depth_spread(depth_a: np.ndarray, depth_all: np.ndarray, samples: int,
+                  mask: np.ndarray) -> np.ndarray:
+    """|dA - dB| (H, W, 1) on ``mask`` where both hit (below 0.999 of the frames' far
+    depth), 0 elsewhere; dB = (K all - A) / (K - 1), the other samples' mean."""
+    from .features import HIT_FRACTION
+
+    a = depth_a[..., 0].astype(np.float32)
+    k = np.float32(max(samples, 2))
+    b = (k * depth_all[..., 0].astype(np.float32) - a) / (k - np.float32(1))
+    limit = HIT_FRACTION * max(float(a.max()), float(depth_all.max()))
+    both = mask & (a < limit) & (b < limit)
+    return np.where(both, np.abs(a - b), np.float32(0)).astype(np.float32)[..., None]
 
 
 def _history_passes(path: Path) -> Dict[str, np.ndarray]:

@@ -18,6 +18,10 @@ Passes (``passes[name]`` is ``(H, W, C)`` or ``(H, W)`` for one component, row `
     ScatterPosition  3  like Position, for the scattering event
     ScatterNormal    3  like Normal, for the scattering event
     Coverage         1  the camera ray's opacity in [0, 1] (ComputeCoverage; else Alpha)
+    DepthSpread      1  study pass, not traced by the mapper (``data.with_edge_samples``): on
+                        an edge pixel |dA - dB|, the world distance between the first-event
+                        depths of its frame sample and of its edge samples' mean where both hit;
+                        0 elsewhere
 
 Channels (names are what ``ptv.input_channels`` of an exported model lists)::
 
@@ -36,6 +40,10 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
     coverage            clip(Coverage, 0, 1): the camera ray's opacity, its expected Alpha
                         without the event's coin flip (the mapper's ComputeCoverage): below 1
                         in a fog or a thin translucent layer, 1 on an opaque surface
+    depth_spread        clip(DepthSpread / (dmax - dmin), 0, 1) with the depth channel's range
+                        over hits (0 for a zero range): how noisy the pixel's depth is. A study
+                        channel (``Training/results/noise_aware.md``): the C++ denoiser does not
+                        build it, so a model that reads it cannot be shipped
     history             1 / max(1, HistoryLength) (NaN counts as 1, +inf gives 0): the share of
                         the newest frame in the pixel's mean (a still accumulation of k
                         frames: 1 / k; the mapper's reprojected history: its per-pixel count);
@@ -79,6 +87,7 @@ _KINDS: Dict[str, Tuple[str, str | None]] = {
     "scatter_position": ("ScatterPosition", "ScatterDepth"),
     "history": ("HistoryLength", None),
     "coverage": ("Coverage", None),
+    "depth_spread": ("DepthSpread", "Depth"),
 }
 _SUFFIXES = {"color": "rgb", "albedo": "rgb", "normal": "xyz", "position": "xyz",
              "scatter_normal": "xyz", "scatter_position": "xyz"}
@@ -182,6 +191,16 @@ def _normalize_hits(values: np.ndarray, hits: np.ndarray, miss: float) -> np.nda
     return out
 
 
+def _scale_by_hit_range(values: np.ndarray, depth: np.ndarray, hits: np.ndarray) -> np.ndarray:
+    """clip(v / (max - min of ``depth`` over ``hits``), 0, 1); 0 for a zero range or no hits."""
+    if not hits.any():
+        return np.zeros(values.shape, np.float32)
+    rng = np.float32(depth[hits].max() - depth[hits].min())
+    if rng <= 0:
+        return np.zeros(values.shape, np.float32)
+    return np.clip(values / rng, 0.0, 1.0).astype(np.float32)
+
+
 def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) -> np.ndarray:
     """Features ``(C, H, W)`` float32 for ``channels`` from the named passes (see module doc)."""
     channels = list(channels)
@@ -193,7 +212,7 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
     shape: Tuple[int, int] | None = None
     components = {"Radiance": 3, "Alpha": 1, "Albedo": 3, "Depth": 1, "Position": 3,
                   "Normal": 3, "ScatterDepth": 1, "ScatterPosition": 3, "ScatterNormal": 3,
-                  "HistoryLength": 1, "Coverage": 1}
+                  "HistoryLength": 1, "Coverage": 1, "DepthSpread": 1}
 
     def get(name: str) -> np.ndarray:
         nonlocal shape
@@ -230,6 +249,8 @@ def build_features(passes: Mapping[str, np.ndarray], channels: Sequence[str]) ->
             plane = np.clip((x + np.float32(1)) * np.float32(0.5), 0.0, 1.0)
         elif kind in ("depth", "scatter_depth"):
             plane = _normalize_hits(x, mask(mask_pass), miss=1.0)
+        elif kind == "depth_spread":
+            plane = _scale_by_hit_range(x, get(mask_pass)[:, :, 0], mask(mask_pass))
         else:  # position, scatter_position
             plane = _normalize_hits(x, mask(mask_pass), miss=0.0)
         planes.append(plane.astype(np.float32, copy=False))
