@@ -74,6 +74,15 @@ float EdgeHigh()
   return v > kEdgeLow && v <= 1.f ? v : kEdgeHigh;
 }
 
+/// The neighbourhood's half width: 1 (3x3), or the study switch PTV_EDGE_RADIUS (1 to 4;
+/// docs/edge-samples.md).
+int EdgeRadius()
+{
+  const char* value = std::getenv("PTV_EDGE_RADIUS");
+  const int v = value ? std::atoi(value) : 0;
+  return v >= 1 && v <= 4 ? v : 1;
+}
+
 /// The edge pixels [e0, e1) of @a edges, traced with @a p (the extra samples' stream); the
 /// frame samples' own jitter comes from @a frameSeed's. Inlined into both builds below, like
 /// ptvCpuTracer's tiles, so each compiles the whole estimator for its instruction set.
@@ -159,16 +168,17 @@ void FindEdgePixels(
     return;
   }
   const std::size_t w = static_cast<std::size_t>(width);
-  // Per pixel: 1 where its column of three (rows y-1..y+1) has a high value, 2 a low one.
+  // Per pixel: 1 where its column (rows y-r..y+r) has a high value, 2 a low one.
   std::vector<unsigned char> columns(w * static_cast<std::size_t>(height));
   std::vector<unsigned char> mask(columns.size());
   const float high = EdgeHigh();
+  const int r = EdgeRadius();
   ParallelFor(threads, 0, height, 16,
     [&](int y0, int y1)
     {
       for (int y = y0; y < y1; ++y)
       {
-        const int ya = std::max(y - 1, 0), yb = std::min(y + 1, height - 1);
+        const int ya = std::max(y - r, 0), yb = std::min(y + r, height - 1);
         for (std::size_t x = 0; x < w; ++x)
         {
           unsigned char bits = 0;
@@ -187,10 +197,14 @@ void FindEdgePixels(
       for (int y = y0; y < y1; ++y)
       {
         const unsigned char* row = columns.data() + static_cast<std::size_t>(y) * w;
+        const std::size_t rr = static_cast<std::size_t>(r);
         for (std::size_t x = 0; x < w; ++x)
         {
-          const unsigned char bits =
-            row[x] | row[x > 0 ? x - 1 : x] | row[x + 1 < w ? x + 1 : x];
+          unsigned char bits = 0;
+          for (std::size_t xx = x > rr ? x - rr : 0; xx <= std::min(x + rr, w - 1); ++xx)
+          {
+            bits |= row[xx];
+          }
           mask[static_cast<std::size_t>(y) * w + x] = bits == 3 ? 1 : 0;
         }
       }

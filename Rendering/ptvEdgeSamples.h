@@ -41,8 +41,9 @@ constexpr float kEdgeLow = 0.05f;
 
 /**
  * The pixels (indices y * width + x, increasing) whose 3x3 neighbourhood (clamped at the
- * image's border) has a @a coverage value >= kEdgeHigh and one < kEdgeLow (NaN counts as
- * neither) into @a edges.
+ * image's border; 5x5 and wider with the study switch PTV_EDGE_RADIUS, docs/edge-samples.md)
+ * has a @a coverage value >= kEdgeHigh and one < kEdgeLow (NaN counts as neither) into
+ * @a edges.
  */
 void FindEdgePixels(
   const float* coverage, int width, int height, int threads, std::vector<std::uint32_t>& edges);
