@@ -22,7 +22,6 @@ disagreement a denoiser could read. ``--views-dir`` may also hold training views
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
@@ -35,11 +34,11 @@ if __package__ in (None, ""):  # run as a file
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
 
-from pathtracedvolume.atomic import write_text  # noqa: E402
 from pathtracedvolume.edges import edge_mask  # noqa: E402
 
 from . import exr_io  # noqa: E402
-from .heldout import REPO_ROOT, SHAPES  # noqa: E402
+from .heldout import SHAPES  # noqa: E402
+from .tables import REPO_ROOT, row, shown, write_results  # noqa: E402
 
 PASSES = ("Radiance", "Albedo", "Depth", "Normal")
 COVERED_ALPHA = 0.5
@@ -60,19 +59,6 @@ def noise_figures(inputs: Dict[int, Dict[str, np.ndarray]]) -> Dict[str, float]:
         spread = float(b.std())
         out[name] = float(np.sqrt(((a - b) ** 2).mean()) / spread) if spread > 0 else float("nan")
     return out
-
-
-def _row(*cells: object) -> str:
-    """One Markdown table row (an empty cell as "| |")."""
-    return "|" + "|".join(f" {c} " if c != "" else " " for c in cells) + "|"
-
-
-def _shown(path: Path) -> str:
-    """``path`` relative to the repository when inside it (the command line as typed)."""
-    try:
-        return str(path.resolve().relative_to(REPO_ROOT))
-    except ValueError:
-        return str(path)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -98,31 +84,28 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      "view": path.stem, **noise_figures(view["inputs"])})
     lines = ["# Noise of the 1-spp auxiliary features on the held-out views", "",
              f"Command: `.venv/bin/python Training/ptv_training/feature_noise.py "
-             f"--views-dir {' '.join(_shown(d) for d in args.views_dir)}` ({len(rows)} views). "
+             f"--views-dir {' '.join(shown(d) for d in args.views_dir)}` ({len(rows)} views). "
              "Per pass: rms(1-spp - 4-spp) / std(4-spp) "
              f"over the pixels with 4-spp Alpha > {COVERED_ALPHA} (module doc); near 0 a clean "
              "feature, near the colour's as noisy as the colour. 'edge pixels': the share of "
              "those pixels with edge samples.", "",
-             _row("shape", "dataset", "covered", "edge pixels", *PASSES),
+             row("shape", "dataset", "covered", "edge pixels", *PASSES),
              "|---|---|---|---|" + "---|" * len(PASSES)]
     for shape in SHAPES + ("training",):
         group = [r for r in rows if r["shape"] == shape]
         if not group:
             continue
         if shape == "training":  # hundreds of views: their spread, not each one
-            lines.append(_row("training", f"max of {len(group)} views", "", "", *(
+            lines.append(row("training", f"max of {len(group)} views", "", "", *(
                 f"{np.nanmax([r[n] for r in group]):.2f}" for n in PASSES)))
-            lines.append(_row("training", "share of views above 1", "", "", *(
+            lines.append(row("training", "share of views above 1", "", "", *(
                 f"{np.mean([r[n] > 1 for r in group]):.1%}" for n in PASSES)))
         else:
-            lines += [_row(shape, r["dataset"], f"{r['covered']:.3f}", f"{r['edges']:.0%}",
+            lines += [row(shape, r["dataset"], f"{r['covered']:.3f}", f"{r['edges']:.0%}",
                            *(f"{r[n]:.2f}" for n in PASSES)) for r in group]
-        lines.append(_row(shape, "**mean**", "", f"{np.nanmean([r['edges'] for r in group]):.0%}",
+        lines.append(row(shape, "**mean**", "", f"{np.nanmean([r['edges'] for r in group]):.0%}",
                           *(f"**{np.nanmean([r[n] for r in group]):.2f}**" for n in PASSES)))
-    args.results.mkdir(parents=True, exist_ok=True)
-    write_text(args.results / "feature_noise.md", "\n".join(lines) + "\n")
-    write_text(args.results / "feature_noise.json", json.dumps(rows, indent=1) + "\n")
-    print("\n".join(lines))
+    write_results(args.results, "feature_noise", lines, rows)
     return 0
 
 

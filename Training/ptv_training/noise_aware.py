@@ -41,11 +41,9 @@ if __package__ in (None, ""):  # run as a file
     import ptv_training  # noqa: F401
     __package__ = "ptv_training"
 
-from pathtracedvolume.atomic import write_text  # noqa: E402
-
 from . import exr_io  # noqa: E402
-from .feature_noise import _row, _shown  # noqa: E402
-from .heldout import REPO_ROOT, SHAPES  # noqa: E402
+from .heldout import SHAPES  # noqa: E402
+from .tables import REPO_ROOT, row, shown, write_results  # noqa: E402
 
 EDGE_SAMPLES = 2
 OIDN = "OIDN fast"
@@ -169,12 +167,12 @@ def table(rows: Sequence[Dict[str, Any]], methods: Sequence[str]) -> List[str]:
     def views(group: str) -> int:
         return len({r["view"] for r in rows if r["group"] == group})
 
-    lines = [_row("method", *groups), "|---|" + "---|" * len(groups),
-             _row("views", *(views(g) for g in groups)),
-             _row(f"covered pixels with depth_spread > {SPREAD_SHOWN:g}",
+    lines = [row("method", *groups), "|---|" + "---|" * len(groups),
+             row("views", *(views(g) for g in groups)),
+             row(f"covered pixels with depth_spread > {SPREAD_SHOWN:g}",
                   *(f"{mean(g, OIDN, 'spread_share'):.1%}" for g in groups))]
     for m in methods:
-        lines.append(_row(m, *(f"{mean(g, m):.2f}" + ("" if m == OIDN else
+        lines.append(row(m, *(f"{mean(g, m):.2f}" + ("" if m == OIDN else
                                                        f" ({mean(g, m) - mean(g, OIDN):+.2f})")
                                for g in groups)))
     return lines
@@ -209,7 +207,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     methods = [*runs, *(blur_name(args.run[-1].name, b) for b in blurs), OIDN]
     lines = ["# A guide told how noisy its depth is (the edge samples' depth spread)", "",
              "Command: `PYTHONPATH=build/python .venv/bin/python Training/ptv_training/"
-             f"noise_aware.py --run {' '.join(_shown(r) for r in args.run)}"
+             f"noise_aware.py --run {' '.join(shown(r) for r in args.run)}"
              f"{' --masked-blur' if blurs else ''}`. Torch denoise "
              f"of the 1-spp frame with {EDGE_SAMPLES} samples on its edge pixels (built from "
              "the stored accumulations, module doc); OIDN fast on the same frame; mean PSNR "
@@ -217,10 +215,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
              "per run: " + "; ".join(
                  f"{name}: {', '.join(run['ck']['channels'])}" for name, run in runs.items())
              + ".", "", *table(rows, methods)]
-    args.results.mkdir(parents=True, exist_ok=True)
-    write_text(args.results / "noise_aware.md", "\n".join(lines) + "\n")
-    write_text(args.results / "noise_aware.json", json.dumps(rows, indent=1) + "\n")
-    print("\n".join(lines))
+    write_results(args.results, "noise_aware", lines, rows)
     return 0
 
 
