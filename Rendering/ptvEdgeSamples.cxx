@@ -197,6 +197,17 @@ void FindEdgePixels(
       for (int y = y0; y < y1; ++y)
       {
         const unsigned char* row = columns.data() + static_cast<std::size_t>(y) * w;
+        unsigned char* out = mask.data() + static_cast<std::size_t>(y) * w;
+        if (r == 1) // the rule's 3x3: three reads (an inner loop costs 2.5x this pass)
+        {
+          for (std::size_t x = 0; x < w; ++x)
+          {
+            const unsigned char bits =
+              row[x] | row[x > 0 ? x - 1 : x] | row[x + 1 < w ? x + 1 : x];
+            out[x] = bits == 3 ? 1 : 0;
+          }
+          continue;
+        }
         const std::size_t rr = static_cast<std::size_t>(r);
         for (std::size_t x = 0; x < w; ++x)
         {
@@ -205,7 +216,7 @@ void FindEdgePixels(
           {
             bits |= row[xx];
           }
-          mask[static_cast<std::size_t>(y) * w + x] = bits == 3 ? 1 : 0;
+          out[x] = bits == 3 ? 1 : 0;
         }
       }
     });

@@ -61,16 +61,11 @@ def blur_name(run: str, blur: Tuple[str, float, int]) -> str:
 
 
 def load_run(run: Path) -> Dict[str, Any]:
-    """A run's best checkpoint as ``{"model", "ck", "info"}`` (eval mode)."""
-    import torch
+    """A run's best checkpoint as ``{"model", "ck"}`` (``level_probe.load_run``)."""
+    from .level_probe import load_run as load
 
-    from .guidenet import GuideNet
-
-    ck = torch.load(run / "best.pt")
-    model = GuideNet(**ck["config"])
-    model.load_state_dict(ck["model"])
-    model.eval()
-    return {"model": model, "ck": ck, "info": json.loads((run / "run.json").read_text())}
+    model, ck = load(run)
+    return {"model": model, "ck": ck}
 
 
 def _box(x: Any, radius: int) -> Any:
@@ -82,36 +77,43 @@ def _box(x: Any, radius: int) -> Any:
 
 
 def denoise(run: Dict[str, Any], passes: Dict[str, np.ndarray],
-            blur: Optional[Tuple[str, float, int]] = None) -> np.ndarray:
-    """The run's torch denoise of ``passes`` with its finest level's default (as shipped,
+            blur: Optional[Tuple[str, float, int]] = None,
+            spread: Optional[np.ndarray] = None) -> np.ndarray:
+    """The run's torch denoise of ``passes`` with its finest level's default (as shipped:
     ``evaluate.torch_denoise``). ``blur`` (where, tau, radius): a fixed filter instead of a
     trained input, the box mean of the ``"features"`` (network inputs) or of the
-    ``"guides"`` replacing them on the pixels whose ``depth_spread`` exceeds tau."""
+    ``"guides"`` replacing them on the pixels whose ``depth_spread`` exceeds tau (``spread``:
+    that channel ``(H, W)`` when already built)."""
     import torch
 
     from .bilateral_grid import automatic_levels
     from .bilateral_grid import denoise as grid_denoise
     from .data import chw
+    from .evaluate import torch_denoise
     from .features import build_features
 
     ck, model = run["ck"], run["model"]
     levels = [tuple(v) for v in ck["levels"]]
+    demodulate = ck.get("demodulate", True)
+    if blur is None:
+        return torch_denoise(model, ck["channels"], levels, ck["clamp"], passes, demodulate,
+                             None, 1)
+    where, tau, radius = blur
+    if spread is None:
+        spread = build_features(passes, ["depth_spread"])[0]
     height, width = passes["Radiance"].shape[:2]
     count = automatic_levels(levels[:model.levels], 1, height, width)
     with torch.no_grad():
+        mask = torch.from_numpy((spread > tau).astype(np.float32))[None, None]
         f = torch.from_numpy(build_features(passes, ck["channels"]))[None]
-        mask = None
-        if blur is not None:
-            spread = torch.from_numpy(build_features(passes, ["depth_spread"]))[None]
-            mask = (spread > blur[1]).float()
-            if blur[0] == "features":
-                f = f * (1 - mask) + _box(f, blur[2]) * mask
-        guides, weights = model.split(model(f))
+        if where == "features":
+            f = f * (1 - mask) + _box(f, radius) * mask
+        guides, weights = model.split(model(f))  # as train.run_model, with the guides blurred
         guides = guides[:, :count] * 255.0
-        if blur is not None and blur[0] == "guides":
-            guides = guides * (1 - mask) + _box(guides, blur[2]) * mask
+        if where == "guides":
+            guides = guides * (1 - mask) + _box(guides, radius) * mask
         out = grid_denoise(chw(passes["Radiance"])[None],
-                           chw(passes["Albedo"])[None] if ck.get("demodulate", True) else None,
+                           chw(passes["Albedo"])[None] if demodulate else None,
                            guides, weights[:, :count - 1] if count > 1 else None,
                            levels=levels[:count], clamp=ck["clamp"])
     return out[0].permute(1, 2, 0).numpy()
@@ -126,33 +128,25 @@ def evaluate(files: Sequence[Path], runs: Dict[str, Dict[str, Any]], group_of,
 
     from .compare import oidn_fast
     from .data import sample_passes
+    from .features import build_features
 
     last = list(runs)[-1]
     rows: List[Dict[str, Any]] = []
     for path in tqdm(list(files), desc="views", unit="view", disable=not progress):
         view = exr_io.read_view(path)
         passes = sample_passes(view, path, 1, EDGE_SAMPLES)
+        spread = build_features(passes, ["depth_spread"])[0]
         images = {name: denoise(run, passes) for name, run in runs.items()}
         for blur in blurs:
-            images[blur_name(last, blur)] = denoise(runs[last], passes, blur)
+            images[blur_name(last, blur)] = denoise(runs[last], passes, blur, spread)
         images[OIDN] = oidn_fast(passes)
-        share = spread_share(passes, view["inputs"][4]["Alpha"])
+        covered = view["inputs"][4]["Alpha"][..., 0] > 0.5  # as feature_noise.py
+        share = float((spread > SPREAD_SHOWN)[covered].mean()) if covered.any() else np.nan
         for method, image in images.items():
             rows.append({"view": path.stem, "dataset": view["view"]["dataset"],
                          "group": group_of(view["view"]), "method": method,
                          "psnr": quality(view["reference"], image)[0], "spread_share": share})
     return rows
-
-
-def spread_share(passes: Dict[str, np.ndarray], alpha4: np.ndarray) -> float:
-    """The share of the covered pixels (4-spp Alpha above 0.5, as ``feature_noise.py``)
-    whose ``depth_spread`` is above SPREAD_SHOWN: where the network could see noisy depth."""
-    from .features import build_features
-
-    covered = alpha4[..., 0] > 0.5
-    if not covered.any():
-        return float("nan")
-    return float((build_features(passes, ["depth_spread"])[0] > SPREAD_SHOWN)[covered].mean())
 
 
 def table(rows: Sequence[Dict[str, Any]], methods: Sequence[str]) -> List[str]:
@@ -197,7 +191,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     held_out = sorted(args.views_dir.glob("*.exr"))
     if not held_out:
         raise SystemExit(f"no views in {args.views_dir}: run heldout.py first")
-    first = runs[args.run[0].name]["info"]
+    first = json.loads((args.run[0] / "run.json").read_text())
     data_dir = Path(first["args"]["data"])
     validation = [data_dir / name for name in first["val_views"]
                   if (data_dir / name).exists()]
