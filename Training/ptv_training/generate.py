@@ -47,7 +47,7 @@ import platform
 import sys
 import time
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -160,13 +160,13 @@ def view_parameters(dataset: str, index: int, seed: int, size: int, reference_sp
     return view
 
 
-def render_view(scene: Scene, view: Dict[str, Any], footprint: bool = False) -> Dict[str, Any]:
-    """Render one view: (channels for the EXR, timings, statistics); with ``footprint`` the
-    inputs include the Footprint pass (evaluation views)."""
-    timings: Dict[str, float] = {}
+def render_inputs(scene: Scene, view: Dict[str, Any], footprint: bool = False
+                  ) -> Tuple[Dict[int, Dict[str, np.ndarray]], np.ndarray]:
+    """A view's inputs: ``({spp: {pass: image}}, the 16-spp radiance)``, one seed accumulated
+    through the input sample counts and the baseline's; with ``footprint`` the inputs include
+    the Footprint pass (evaluation views)."""
     inputs: Dict[int, Dict[str, np.ndarray]] = {}
     names = exr_io.INPUT_PASSES + (("Footprint",) if footprint else ())
-    t0 = time.perf_counter()
     scene.set_view(view, seed=view["input_seed"], denoise=False,
                    max_frames=max(view["baseline_spp"], max(view["input_spp"])),
                    footprint=footprint)
@@ -180,6 +180,15 @@ def render_view(scene: Scene, view: Dict[str, Any], footprint: bool = False) -> 
             inputs[spp] = {name: scene.get_pass(name) for name in names}
         if spp == view["baseline_spp"]:
             spp16 = scene.get_pass("Radiance")
+    return inputs, spp16
+
+
+def render_view(scene: Scene, view: Dict[str, Any], footprint: bool = False) -> Dict[str, Any]:
+    """Render one view: (channels for the EXR, timings, statistics); with ``footprint`` the
+    inputs include the Footprint pass (evaluation views)."""
+    timings: Dict[str, float] = {}
+    t0 = time.perf_counter()
+    inputs, spp16 = render_inputs(scene, view, footprint)
     timings["inputs_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
