@@ -61,12 +61,12 @@ float RouletteThreshold()
   return kRouletteThreshold;
 }
 
-/// TraceParams::ExpectedCoverage, a study switch (Testing/Benchmarks/expected_coverage.py):
-/// PTV_EXPECTED_COVERAGE=1 turns it on.
-int ExpectedCoverage()
+/// PTV_EXPECTED_COVERAGE=1 turns TraceParams::ExpectedCoverage on whatever the mapper's
+/// property (the benchmarks: Testing/Benchmarks/expected_coverage.py, coverage_frames.py).
+bool ExpectedCoverageFromEnvironment()
 {
   const char* value = std::getenv("PTV_EXPECTED_COVERAGE");
-  return value && value[0] == '1' && value[1] == '\0' ? 1 : 0;
+  return value && value[0] == '1' && value[1] == '\0';
 }
 
 constexpr int kTableSize = 4096;
@@ -578,7 +578,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.Specular = static_cast<float>(prop->GetSpecular(0));
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
-  p.ExpectedCoverage = ExpectedCoverage();
+  p.ExpectedCoverage = settings.ExpectedCoverage || ExpectedCoverageFromEnvironment() ? 1 : 0;
   const double coverage = static_cast<double>(p.ExpectedCoverage);
   signature.AddExact(&coverage, 1);
   // Not in the signature: a frame without the march stores Alpha as its Coverage, whose

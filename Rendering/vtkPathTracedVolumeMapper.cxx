@@ -397,6 +397,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     scene.SamplesPerFrame = this->SamplesPerFrame;
     scene.Scattering = this->Scattering;
     scene.CoverageMarch = this->ComputeCoverage; // the frame loop adds its model's need
+    scene.ExpectedCoverage = this->ExpectedCoverage;
     scene.FootprintRays = this->ComputeFootprint; // and the denoiser's
     scene.AmbientOcclusion = this->AmbientOcclusion;
     scene.AmbientOcclusionReach = this->AmbientOcclusionReach;
@@ -507,6 +508,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
   os << indent << "ComputeCoverage: " << this->ComputeCoverage << "\n";
+  os << indent << "ExpectedCoverage: " << this->ExpectedCoverage << "\n";
   os << indent << "ComputeFootprint: " << this->ComputeFootprint << "\n";
   os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
   os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";

@@ -346,6 +346,12 @@ void vtkPTVVolumeRepresentation::SetScattering(bool value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetExpectedCoverage(bool value)
+{
+  this->GetPathTracedMapper()->SetExpectedCoverage(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetAmbientOcclusion(bool value)
 {
   this->GetPathTracedMapper()->SetAmbientOcclusion(value);

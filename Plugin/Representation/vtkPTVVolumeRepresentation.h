@@ -67,6 +67,7 @@ public:
   void SetMaximumHistory(int value);
   void SetSeed(int value);
   void SetScattering(bool value);
+  void SetExpectedCoverage(bool value);
   void SetAmbientOcclusion(bool value);
   void SetAmbientOcclusionReach(double value);
   void SetUseRendererLight(bool value);

@@ -43,14 +43,15 @@
  *     with probability T_k a_k (T_k = prod_{j<k} (1 - a_j)), so E[Alpha] and E[Radiance] are
  *     exactly the front-to-back composite sum_k T_k a_k L_k. With Scattering = 0 the event is the
  *     first event (an isosurface-like first hit). The march stops at the event.
- *  4b. ExpectedCoverage (a study switch; with Scattering, no CameraBoxed): the march goes on
+ *  4b. ExpectedCoverage (the mapper's property; with Scattering, no CameraBoxed): the march goes on
  *     past the event to tEnd, or until T < kCoverageCutoff; the ray's opacity
  *     c = sum_k T_k a_k = 1 - T is stored as Alpha and the event is drawn among the samples
  *     with probability T_k a_k / c (a weighted reservoir: sample k replaces the candidate when
  *     u_k c_k < T_k a_k, c_k the running sum, one draw per absorbing sample), and Radiance =
  *     c L(event). Same expectations as step 4 without the coin flip between event and no
  *     event. Measured (Testing/Benchmarks/results/expected_coverage.md): not worth its cost on
- *     the datasets' presets, so off.
+ *     the datasets' presets, so off by default; large gains in translucent transfer functions
+ *     (Training/results/coverage_frames.md).
  *  4c. CoverageMarch (with Scattering): after step 4's march stops at its event, a second
  *     march carries T on over the samples after it (the same grid) until T <
  *     kCoverageMarchCutoff or tEnd, and the ray's opacity 1 - T is stored as Coverage (a

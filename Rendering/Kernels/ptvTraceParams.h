@@ -46,7 +46,7 @@ struct TraceParams
   int Shade;
   float Ambient, Diffuse, Specular, SpecularPower;
   int Scattering;       ///< 1: event at a random opacity threshold, 0: first non-transparent sample
-  /// Study switch (PTV_EXPECTED_COVERAGE=1; Testing/Benchmarks/expected_coverage.py), with
+  /// vtkPathTracedVolumeMapper::ExpectedCoverage (or PTV_EXPECTED_COVERAGE=1), with
   /// Scattering and a composite medium: 1 marches each camera ray to its end (until its
   /// transmittance is below kCoverageCutoff), stores the ray's opacity as Alpha and draws the
   /// event among its samples in proportion to their share of it (ptvIntegrator.h, step 4b);

@@ -353,6 +353,13 @@ display.EdgeSamples = 1
 check(mapper().GetEdgeSamples() == 1, "EdgeSamples reaches the mapper")
 display.EdgeSamples = 2
 
+check(not mapper().GetExpectedCoverage(), "ExpectedCoverage is off by default")
+display.ExpectedCoverage = 1
+Render(view)
+check(mapper().GetExpectedCoverage() and mapper().GetAccumulatedFrames() == 1,
+      "ExpectedCoverage reaches the mapper and restarts the accumulation")
+display.ExpectedCoverage = 0
+
 for name, value in [("EmptySpaceSkipping", 0), ("NumberOfThreads", 1)]:
     old = display.GetPropertyValue(name)
     display.SetPropertyWithName(name, value)
