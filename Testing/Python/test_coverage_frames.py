@@ -114,7 +114,7 @@ def test_reinput_rejects_what_it_cannot_do(source: Path, tmp_path: Path) -> None
     assert not (tmp_path / "o" / "manifest.json").exists()
 
 
-def test_coverage_frames_traces_both_modes_and_restores_the_environment(source: Path) -> None:
+def test_coverage_frames_traces_both_modes(source: Path) -> None:
     from ptv_training import coverage_frames as cf
     from ptv_training import exr_io
 
@@ -123,9 +123,13 @@ def test_coverage_frames_traces_both_modes_and_restores_the_environment(source: 
     item = {"group": "validation", "name": "head_000", "meta": view["view"],
             "seed": view["view"]["input_seed"], "reference": view["reference"]}
     model = ROOT / "Data" / "Models" / "guidenet.onnx"
-    os.environ.pop(VARIABLE, None)
+    os.environ[VARIABLE] = "1"  # would make both modes one: refused
+    try:
+        with pytest.raises(RuntimeError, match=VARIABLE):
+            cf.evaluate([item], [model], rounds=1, progress=False)
+    finally:
+        del os.environ[VARIABLE]
     rows = cf.evaluate([item], [model], rounds=1, progress=False)
-    assert VARIABLE not in os.environ
     methods = {"trace ms", "noisy 1 spp", "shipped", cf.OIDN, f"{cf.BASELINE_SPP} spp"}
     for mode in cf.MODES:
         got = {r["method"]: r["value"] for r in rows if r["mode"] == mode}
@@ -139,7 +143,7 @@ def test_coverage_frames_traces_both_modes_and_restores_the_environment(source: 
     from ptv_training.scene import Scene
 
     scene = Scene("head", (32, 32))
-    mapper = cf.frame(scene, view["view"], view["view"]["input_seed"], 1, True)
+    mapper = cf.frame(scene, view["view"], view["view"]["input_seed"], 1, True, False)
     stored = view["inputs"][1]
     changed = np.zeros((32, 32), bool)
     for name, image in stored.items():

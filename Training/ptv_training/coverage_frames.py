@@ -2,16 +2,15 @@
 
 By default a camera ray either has an event (the event's radiance, Alpha 1) or not (nothing),
 with the probability of its opacity: a coin flip whose variance is largest where that opacity is
-far from 0 and 1 (translucent media, thin shells). The tracer's study switch
-``PTV_EXPECTED_COVERAGE=1`` (``Rendering/Kernels/ptvIntegrator.h``, step 4b) marches the ray to
-its end instead and weights an event drawn along it by the ray's opacity: the same expectation
+far from 0 and 1 (translucent media, thin shells). The mapper's ``ExpectedCoverage``
+(``Rendering/Kernels/ptvIntegrator.h``, step 4b) marches the ray to its end instead and weights an event drawn along it by the ray's opacity: the same expectation
 without the flip, for a longer march. ``Testing/Benchmarks/expected_coverage.py`` measured it on
 the Table-1 presets (a little gain for 20-30 % more trace); this study asks what it does on the
 transfer functions where the flip dominates, for the shipped model, for a model trained on such
-frames (``reinput.py`` traces a training folder's inputs again under the switch), and for OIDN
-RT fast.
+frames (``reinput.py`` traces a training folder's inputs again with ``PTV_EXPECTED_COVERAGE=1``,
+which turns the property on in every mapper), and for OIDN RT fast.
 
-For every view, in both modes (switch off, on): the 1-spp frame the mapper denoises (the view's
+For every view, in both modes (ExpectedCoverage off, on): the 1-spp frame the mapper denoises (the view's
 input seed, ``EdgeSamples`` 2 on the edge pixels, the Footprint pass) traced through
 vtkPathTracedVolumeMapper, each ``--model`` (the C++ denoiser, as ``heldout.py``) and OIDN fast
 on it, and the plain 8-spp accumulation of the same seed; PSNR against the view's stored
@@ -46,8 +45,8 @@ from . import exr_io  # noqa: E402
 from .heldout import SHAPES  # noqa: E402
 from .tables import REPO_ROOT, row, shown, write_results  # noqa: E402
 
-VARIABLE = "PTV_EXPECTED_COVERAGE"
-MODES = {"flip": "0", "expected": "1"}
+VARIABLE = "PTV_EXPECTED_COVERAGE"  # would turn ExpectedCoverage on in both modes
+MODES = {"flip": False, "expected": True}
 EDGE_SAMPLES = 2
 BASELINE_SPP = 8
 OIDN = "OIDN fast"
@@ -82,10 +81,12 @@ def views(heldout_dir: Path, data: Path, paper_cache: Path) -> List[Dict[str, An
     return out
 
 
-def frame(scene: Any, meta: Dict[str, Any], seed: int, frames: int, edge: bool) -> Any:
+def frame(scene: Any, meta: Dict[str, Any], seed: int, frames: int, edge: bool,
+          expected: bool) -> Any:
     """Trace ``frames`` frames of ``meta`` from ``seed`` (with ``edge`` the denoised frame's
-    EdgeSamples); returns the mapper."""
+    EdgeSamples, with ``expected`` ExpectedCoverage); returns the mapper."""
     mapper = scene.set_view(meta, seed=seed, max_frames=frames, footprint=edge)
+    mapper.SetExpectedCoverage(expected)
     mapper.SetEdgeSamples(EDGE_SAMPLES if edge else 1)
     mapper.SetComputeEdgeSamples(edge)
     if scene.render(frames) != frames:
@@ -102,38 +103,35 @@ def evaluate(items: Sequence[Dict[str, Any]], models: Sequence[Path], rounds: in
     from .evaluate import cpp_denoise
     from .scene import Scene
 
+    if os.environ.get(VARIABLE):
+        raise RuntimeError(f"{VARIABLE} is set: it would turn ExpectedCoverage on in both modes")
     rows: List[Dict[str, Any]] = []
     scene: Optional[Any] = None
-    try:
-        for item in tqdm(items, desc="views", unit="view", disable=not progress):
-            meta = item["meta"]
-            if scene is None or scene.dataset != meta["dataset"]:
-                scene = Scene(meta["dataset"], tuple(meta["size"]))
-            times: Dict[str, List[float]] = {mode: [] for mode in MODES}
-            for r in range(rounds):
-                for mode, value in MODES.items():
-                    os.environ[VARIABLE] = value
-                    times[mode].append(frame(scene, meta, 1000 + r, 2, True).GetLastTraceTime())
-            for mode, value in MODES.items():
-                os.environ[VARIABLE] = value
-                frame(scene, meta, item["seed"], 1, True)
-                passes = {name: scene.get_pass(name) for name in PASSES}
-                images = {"noisy 1 spp": passes["Radiance"]}
-                for model in models:
-                    images[model_name(model)] = cpp_denoise(model, passes, sorted(passes),
-                                                            threads=2)["output"]
-                images[OIDN] = oidn_fast(passes)
-                frame(scene, meta, item["seed"], BASELINE_SPP, False)
-                images[f"{BASELINE_SPP} spp"] = scene.get_pass("Radiance")
-                base = {"view": item["name"], "group": item["group"],
-                        "dataset": meta["dataset"], "mode": mode}
-                rows.append({**base, "method": "trace ms",
-                             "value": statistics.median(times[mode])})
-                for method, image in images.items():
-                    rows.append({**base, "method": method,
-                                 "value": quality(item["reference"], image)[0]})
-    finally:
-        os.environ.pop(VARIABLE, None)
+    for item in tqdm(items, desc="views", unit="view", disable=not progress):
+        meta = item["meta"]
+        if scene is None or scene.dataset != meta["dataset"]:
+            scene = Scene(meta["dataset"], tuple(meta["size"]))
+        times: Dict[str, List[float]] = {mode: [] for mode in MODES}
+        for r in range(rounds):
+            for mode, expected in MODES.items():
+                mapper = frame(scene, meta, 1000 + r, 2, True, expected)
+                times[mode].append(mapper.GetLastTraceTime())
+        for mode, expected in MODES.items():
+            frame(scene, meta, item["seed"], 1, True, expected)
+            passes = {name: scene.get_pass(name) for name in PASSES}
+            images = {"noisy 1 spp": passes["Radiance"]}
+            for model in models:
+                images[model_name(model)] = cpp_denoise(model, passes, sorted(passes),
+                                                        threads=2)["output"]
+            images[OIDN] = oidn_fast(passes)
+            frame(scene, meta, item["seed"], BASELINE_SPP, False, expected)
+            images[f"{BASELINE_SPP} spp"] = scene.get_pass("Radiance")
+            base = {"view": item["name"], "group": item["group"], "dataset": meta["dataset"],
+                    "mode": mode}
+            rows.append({**base, "method": "trace ms", "value": statistics.median(times[mode])})
+            for method, image in images.items():
+                rows.append({**base, "method": method,
+                             "value": quality(item["reference"], image)[0]})
     return rows
 
 
@@ -202,7 +200,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     lines = ["# The denoisers on frames traced with the camera ray's expected coverage", "",
              "Command: `PYTHONPATH=build/python xvfb-run -a .venv/bin/python Training/"
              f"ptv_training/coverage_frames.py --model {' '.join(shown(m) for m in args.model)}`"
-             f". Modes: *flip* (the tracer's default) and *expected* ({VARIABLE}=1). The 1-spp "
+             f". Modes: *flip* (the tracer's default) and *expected* (the mapper's "
+             "ExpectedCoverage on). The 1-spp "
              f"frame with EdgeSamples {EDGE_SAMPLES} (the frame the mapper denoises), denoised by "
              f"each model (C++) and by OIDN fast; {BASELINE_SPP} spp: the plain accumulation of "
              "the same seed in that mode. Mean PSNR (dB) against each view's reference "
