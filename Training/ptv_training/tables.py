@@ -1,4 +1,5 @@
-"""Markdown tables and result files of the study scripts (feature_noise.py, noise_aware.py)."""
+"""Markdown tables and result files of the study scripts (feature_noise.py, noise_aware.py,
+coverage_frames.py)."""
 from __future__ import annotations
 
 import json
