@@ -11,7 +11,10 @@ one trained on the source view for view.
 
 Each view is written atomically with the switch in its ``ptv.inputs`` attribute; a rerun skips
 views whose file verifies and carries the same switch (resumable). ``manifest.json`` is the
-source's with ``inputs_switch``, ``inputs_from`` and this run's timings added.
+source's with ``inputs_switch``, ``inputs_from`` and this run's timings added; it is written
+once every view is done, so a stopped run leaves none (nothing can train on a half copy),
+and a resumed run records ``inputs_s`` only for the views it traced (the others keep the
+source's).
 
 Run under Xvfb with the built package on PYTHONPATH, e.g.::
 
