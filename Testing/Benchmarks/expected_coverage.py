@@ -2,8 +2,9 @@
 """Ablation: a camera ray's opacity as its Alpha (expected coverage) against the coin flip.
 
 Today a camera ray either has an event (Alpha 1, Radiance the event's) or not (Alpha 0, Radiance
-0), with the probability of its opacity c. The study switch PTV_EXPECTED_COVERAGE=1
-(``Rendering/Kernels/ptvIntegrator.h``, step 4b) marches every camera ray to its end instead,
+0), with the probability of its opacity c. The mapper's ExpectedCoverage (here through
+PTV_EXPECTED_COVERAGE=1, which turns it on in every mapper; ``Rendering/Kernels/ptvIntegrator.h``,
+step 4b) marches every camera ray to its end instead,
 stores c itself as Alpha and c times the radiance of an event drawn in proportion to each
 sample's share of c: the same expectations without the coin flip, for the march behind the
 event. It removes the variance of that flip, which is large where c is far from 0 and 1
