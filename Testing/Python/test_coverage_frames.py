@@ -140,10 +140,11 @@ def test_coverage_frames_traces_both_modes(source: Path) -> None:
     assert flip["noisy 1 spp"] != expected["noisy 1 spp"]  # the switch reached the tracer
     # The flip's denoised frame is the stored 1-spp frame with the mapper's edge samples:
     # outside the edge pixels it is the stored passes bit for bit (as heldout.edge_frame checks).
+    from ptv_training.heldout import trace_frame
     from ptv_training.scene import Scene
 
     scene = Scene("head", (32, 32))
-    mapper = cf.frame(scene, view["view"], view["view"]["input_seed"], 1, True, False)
+    mapper = trace_frame(scene, view["view"], view["view"]["input_seed"], 1, cf.EDGE_SAMPLES)
     stored = view["inputs"][1]
     changed = np.zeros((32, 32), bool)
     for name, image in stored.items():

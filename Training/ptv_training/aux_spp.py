@@ -38,7 +38,8 @@ if __package__ in (None, ""):  # run as a file
 from pathtracedvolume.atomic import write_text  # noqa: E402
 
 from . import exr_io  # noqa: E402
-from .compare import PAPER_CAMERAS, PAPER_DATASETS, PAPER_SEEDS, oidn_fast, paper_view  # noqa: E402
+from .compare import (PAPER_CAMERAS, PAPER_DATASETS, PAPER_SEEDS, oidn_fast,  # noqa: E402
+                      paper_view, paper_view_meta)
 from .data import split_views, with_aux_passes  # noqa: E402
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -48,15 +49,12 @@ def paper_aux_view(dataset: str, size: int, camera: int, spp: int,
                    cache: Path) -> Dict[str, np.ndarray]:
     """The Table-1 view's passes accumulated to ``spp`` frames of the input's seed (cached)."""
     from pathtracedvolume.atomic import atomic_path
-    from pathtracedvolume.scene import paper_preset
 
     from .scene import Scene
 
     path = cache / f"{dataset}_{size}_{camera}_aux{spp}.npz"
     if not path.is_file():
-        azimuth, elevation = PAPER_CAMERAS[camera]
-        view = {"dataset": dataset, "transfer_function": paper_preset(dataset),
-                "azimuth": azimuth, "elevation": elevation}
+        view = paper_view_meta(dataset, camera)
         scene = Scene(dataset, (size, size))
         scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=spp)
         if scene.render(spp) != spp:

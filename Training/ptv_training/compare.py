@@ -20,7 +20,7 @@ import json
 import sys
 import tempfile
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -112,19 +112,26 @@ PAPER_CAMERAS = ((30.0, 10.0), (150.0, -20.0))
 PAPER_SEEDS = (1, 100003)  # input, reference: the evaluation report's
 
 
+def paper_view_meta(dataset: str, camera: int) -> Dict[str, Any]:
+    """The parameters of Table-1 view ``camera`` of ``dataset`` (``Scene.set_view``'s view):
+    the dataset's paper preset seen from ``PAPER_CAMERAS[camera]``."""
+    from pathtracedvolume.scene import paper_preset
+
+    azimuth, elevation = PAPER_CAMERAS[camera]
+    return {"dataset": dataset, "transfer_function": paper_preset(dataset),
+            "azimuth": azimuth, "elevation": elevation}
+
+
 def paper_view(dataset: str, size: int, camera: int, reference_spp: int,
                cache: Path) -> Dict[str, object]:
     """A Table-1 view: its 1-spp passes ("inputs") and reference, rendered once into ``cache``."""
     from pathtracedvolume.atomic import atomic_path
-    from pathtracedvolume.scene import paper_preset
 
     from .scene import Scene
 
     path = cache / f"{dataset}_{size}_{camera}_{reference_spp}.npz"
     if not path.is_file():
-        azimuth, elevation = PAPER_CAMERAS[camera]
-        view = {"dataset": dataset, "transfer_function": paper_preset(dataset),
-                "azimuth": azimuth, "elevation": elevation}
+        view = paper_view_meta(dataset, camera)
         scene = Scene(dataset, (size, size))
         scene.set_view(view, seed=PAPER_SEEDS[0], max_frames=1, footprint=True)
         scene.render(1)

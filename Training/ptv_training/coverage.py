@@ -81,14 +81,10 @@ def mismatch(stored: Mapping[str, np.ndarray], rendered: Mapping[str, np.ndarray
 
 def paper_view_parameters(path: Path) -> Dict[str, Any]:
     """The view of a cached Table-1 file ``<dataset>_<size>_<camera>_<ref spp>.npz``."""
-    from pathtracedvolume.scene import paper_preset
-
-    from .compare import PAPER_CAMERAS
+    from .compare import paper_view_meta
 
     dataset, _, camera, _ = path.stem.split("_")
-    azimuth, elevation = PAPER_CAMERAS[int(camera)]
-    return {"dataset": dataset, "transfer_function": paper_preset(dataset),
-            "azimuth": azimuth, "elevation": elevation}
+    return paper_view_meta(dataset, int(camera))
 
 
 def add_pass(files: Sequence[Path], paper_cache: Optional[Path],

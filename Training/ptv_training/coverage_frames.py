@@ -42,7 +42,7 @@ if __package__ in (None, ""):  # run as a file
     __package__ = "ptv_training"
 
 from . import exr_io  # noqa: E402
-from .heldout import SHAPES  # noqa: E402
+from .heldout import SHAPES, trace_frame  # noqa: E402
 from .tables import REPO_ROOT, row, shown, write_results  # noqa: E402
 
 VARIABLE = "PTV_EXPECTED_COVERAGE"  # would turn ExpectedCoverage on in both modes
@@ -57,8 +57,7 @@ GROUPS = (*SHAPES, "validation", "head", "stent", "concrete")
 def views(heldout_dir: Path, data: Path, paper_cache: Path) -> List[Dict[str, Any]]:
     """Every view of the study: ``{"group", "name", "meta" (Scene.set_view's view), "seed",
     "reference"}``; the Table-1 views are rendered into ``paper_cache`` when missing."""
-    from .compare import PAPER_CAMERAS, PAPER_SEEDS, paper_view
-    from pathtracedvolume.scene import paper_preset
+    from .compare import PAPER_CAMERAS, PAPER_SEEDS, paper_view, paper_view_meta
 
     out: List[Dict[str, Any]] = []
     files = sorted(heldout_dir.glob("*.exr"))
@@ -72,26 +71,12 @@ def views(heldout_dir: Path, data: Path, paper_cache: Path) -> List[Dict[str, An
         out.append({"group": meta.get("heldout", "validation"), "name": path.stem,
                     "meta": meta, "seed": meta["input_seed"], "reference": view["reference"]})
     for dataset in ("head", "stent", "concrete"):
-        for camera, (azimuth, elevation) in enumerate(PAPER_CAMERAS):
+        for camera in range(len(PAPER_CAMERAS)):
             ref = paper_view(dataset, 256, camera, 256, paper_cache)["reference"]
-            meta = {"dataset": dataset, "transfer_function": paper_preset(dataset),
-                    "azimuth": azimuth, "elevation": elevation, "size": [256, 256]}
+            meta = {**paper_view_meta(dataset, camera), "size": [256, 256]}
             out.append({"group": dataset, "name": f"{dataset}_256_{camera}", "meta": meta,
                         "seed": PAPER_SEEDS[0], "reference": ref})
     return out
-
-
-def frame(scene: Any, meta: Dict[str, Any], seed: int, frames: int, edge: bool,
-          expected: bool) -> Any:
-    """Trace ``frames`` frames of ``meta`` from ``seed`` (with ``edge`` the denoised frame's
-    EdgeSamples, with ``expected`` ExpectedCoverage); returns the mapper."""
-    mapper = scene.set_view(meta, seed=seed, max_frames=frames, footprint=edge)
-    mapper.SetExpectedCoverage(expected)
-    mapper.SetEdgeSamples(EDGE_SAMPLES if edge else 1)
-    mapper.SetComputeEdgeSamples(edge)
-    if scene.render(frames) != frames:
-        raise RuntimeError(f"{meta['dataset']}: {frames} frames did not accumulate")
-    return mapper
 
 
 def evaluate(items: Sequence[Dict[str, Any]], models: Sequence[Path], rounds: int,
@@ -114,17 +99,17 @@ def evaluate(items: Sequence[Dict[str, Any]], models: Sequence[Path], rounds: in
         times: Dict[str, List[float]] = {mode: [] for mode in MODES}
         for r in range(rounds):
             for mode, expected in MODES.items():
-                mapper = frame(scene, meta, 1000 + r, 2, True, expected)
+                mapper = trace_frame(scene, meta, 1000 + r, 2, EDGE_SAMPLES, expected)
                 times[mode].append(mapper.GetLastTraceTime())
         for mode, expected in MODES.items():
-            frame(scene, meta, item["seed"], 1, True, expected)
+            trace_frame(scene, meta, item["seed"], 1, EDGE_SAMPLES, expected)
             passes = {name: scene.get_pass(name) for name in PASSES}
             images = {"noisy 1 spp": passes["Radiance"]}
             for model in models:
                 images[model_name(model)] = cpp_denoise(model, passes, sorted(passes),
                                                         threads=2)["output"]
             images[OIDN] = oidn_fast(passes)
-            frame(scene, meta, item["seed"], BASELINE_SPP, False, expected)
+            trace_frame(scene, meta, item["seed"], BASELINE_SPP, 1, expected)
             images[f"{BASELINE_SPP} spp"] = scene.get_pass("Radiance")
             base = {"view": item["name"], "group": item["group"], "dataset": meta["dataset"],
                     "mode": mode}
@@ -137,8 +122,9 @@ def evaluate(items: Sequence[Dict[str, Any]], models: Sequence[Path], rounds: in
 
 def model_name(model: Path) -> str:
     """A model's name in the table: its run folder's name, or its file stem."""
-    return model.parent.name if model.stem == "guidenet" and model.parent.name != "Models" \
-        else ("shipped" if model.parent.name == "Models" else model.stem)
+    if model.parent.name == "Models":
+        return "shipped"
+    return model.parent.name if model.stem == "guidenet" else model.stem
 
 
 def table(rows: Sequence[Dict[str, Any]], methods: Sequence[str]) -> List[str]:

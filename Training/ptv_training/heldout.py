@@ -103,16 +103,28 @@ def ensure_views(args: argparse.Namespace) -> List[Path]:
     return files
 
 
+def trace_frame(scene: Any, meta: Dict[str, Any], seed: int, frames: int, edge_samples: int,
+                expected_coverage: bool = False) -> Any:
+    """Trace ``frames`` frames of the view ``meta`` from ``seed``; returns the mapper. With
+    ``edge_samples`` > 1 each frame is the one the mapper traces for its denoiser (that many
+    EdgeSamples on the volume's edge pixels, the Footprint pass), with 1 the plain frame; with
+    ``expected_coverage`` the mapper's ExpectedCoverage."""
+    edges = edge_samples > 1
+    mapper = scene.set_view(meta, seed=seed, max_frames=frames, footprint=edges)
+    mapper.SetEdgeSamples(edge_samples)
+    mapper.SetComputeEdgeSamples(edges)
+    mapper.SetExpectedCoverage(expected_coverage)
+    if scene.render(frames) != frames:
+        raise RuntimeError(f"{meta['dataset']}: {frames} frames did not accumulate")
+    return mapper
+
+
 def edge_frame(scene: Any, meta: Dict[str, Any], stored: Dict[str, np.ndarray],
                edge_samples: int) -> Dict[str, np.ndarray]:
     """The view's 1-spp frame as the mapper traces it for its denoiser: the stored passes with
     ``edge_samples`` EdgeSamples on the volume's edge pixels (the same samples elsewhere,
     checked bit for bit outside those pixels)."""
-    mapper = scene.set_view(meta, seed=meta["input_seed"], max_frames=1, footprint=True)
-    mapper.SetEdgeSamples(edge_samples)
-    mapper.SetComputeEdgeSamples(True)
-    if scene.render(1) != 1:
-        raise RuntimeError("the edge-sampled frame did not render")
+    mapper = trace_frame(scene, meta, meta["input_seed"], 1, edge_samples)
     passes = {name: scene.get_pass(name).reshape(stored[name].shape) for name in stored}
     changed = np.zeros(passes["Radiance"].shape[:2], bool)
     for name, image in passes.items():
