@@ -68,7 +68,7 @@ struct FrameRequest
   bool Denoise = true;
   /// Samples per frame sample at the volume's edge pixels (ptvEdgeSamples.h; 1: none), traced
   /// when the frame is denoised or with ComputeEdgeSamples.
-  int EdgeSamples = 2;
+  int EdgeSamples = 3;
   bool ComputeEdgeSamples = false;
   DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Footprint, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance

@@ -236,7 +236,7 @@ public:
 
   ///@{
   /**
-   * Samples per frame at the volume's edge pixels (EdgeSamples, default 2; 1: none), traced
+   * Samples per frame at the volume's edge pixels (EdgeSamples, default 3; 1: none), traced
    * when the frame is denoised, or in every frame with ComputeEdgeSamples on (default off; for
    * benchmarks that denoise the passes themselves). With one sample a pixel on the volume's
    * silhouette or on thin structure shows all of its colour or none, and the denoiser cannot
@@ -246,8 +246,9 @@ public:
    * lattice over the pixel (2: the opposite point), and every other random number comes from a
    * stream of their own, so every other pixel and pass is unchanged and each pixel's mean still
    * converges to the same image. On the evaluation's views 1-3 % of the pixels are edges
-   * (stent 5-11 %); 2 samples there add 0.7-1.0 dB to the denoised frame for 6-13 % of the
-   * trace time (stent 0.4-0.6 dB for 26-35 %; docs/edge-samples.md). When the camera moves
+   * (stent 5-11 %); 2 samples there add 0.6-1.2 dB to the denoised frame for 5-16 % of the
+   * trace time (stent 0.3-0.7 dB for 25-42 %), the third another 0.1-0.4 dB for 2-8 % (stent
+   * 0.1-0.2 dB for 13-17 %), as much as 4 give (docs/edge-samples.md). When the camera moves
    * (TemporalReprojection), edge pixels start again from the new frame: their history lags
    * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
    * traced the frame; with several processes holding the whole volume by process 0 for all of
@@ -570,7 +571,7 @@ protected:
   bool ComputeCoverage = false;
   bool ExpectedCoverage = false;
   bool ComputeFootprint = false;
-  int EdgeSamples = 2;
+  int EdgeSamples = 3;
   bool ComputeEdgeSamples = false;
   bool AmbientOcclusion = true;
   double AmbientOcclusionReach = 1.0;

@@ -347,11 +347,11 @@ print("DenoiserNumberOfLevels=1: mean |diff| = %.2f/255" % mean)
 check(mean > 0.2 and not traced, "DenoiserNumberOfLevels changes the denoised image only")
 display.DenoiserNumberOfLevels = 0
 
-check(mapper().GetEdgeSamples() == 2 and mapper().GetLastEdgeFraction() > 0,
-      "a denoised frame gets EdgeSamples (default 2) on the volume's edges")
+check(mapper().GetEdgeSamples() == 3 and mapper().GetLastEdgeFraction() > 0,
+      "a denoised frame gets EdgeSamples (default 3) on the volume's edges")
 display.EdgeSamples = 1
 check(mapper().GetEdgeSamples() == 1, "EdgeSamples reaches the mapper")
-display.EdgeSamples = 2
+display.EdgeSamples = 3
 
 check(not mapper().GetExpectedCoverage(), "ExpectedCoverage is off by default")
 display.ExpectedCoverage = 1

@@ -141,7 +141,7 @@ def test_the_mean_is_unbiased(count: int) -> None:
 def test_edge_samples_in_the_settings() -> None:
     """Documented properties with their defaults and range, printed by PrintSelf."""
     mapper = ptv.vtkPathTracedVolumeMapper()
-    assert mapper.GetEdgeSamples() == 2 and not mapper.GetComputeEdgeSamples()
+    assert mapper.GetEdgeSamples() == 3 and not mapper.GetComputeEdgeSamples()
     assert mapper.GetLastEdgeFraction() == 0.0
     mapper.SetEdgeSamples(0)
     assert mapper.GetEdgeSamples() == 1
