@@ -246,9 +246,9 @@ public:
    * lattice over the pixel (2: the opposite point), and every other random number comes from a
    * stream of their own, so every other pixel and pass is unchanged and each pixel's mean still
    * converges to the same image. On the evaluation's views 1-3 % of the pixels are edges
-   * (stent 5-11 %); 2 samples there add 0.6-1.2 dB to the denoised frame for 5-16 % of the
-   * trace time (stent 0.3-0.7 dB for 25-42 %), the third another 0.1-0.4 dB for 2-8 % (stent
-   * 0.1-0.2 dB for 13-17 %), as much as 4 give (docs/edge-samples.md). When the camera moves
+   * (stent 5-11 %); 2 samples there add 0.6-1.2 dB to the denoised frame for 4-18 % of the
+   * trace time (stent 0.3-0.7 dB for 27-40 %), the third another 0.1-0.4 dB for 2-6 % (stent
+   * 0.1-0.2 dB for 13-18 %), as much as 4 give (docs/edge-samples.md). When the camera moves
    * (TemporalReprojection), edge pixels start again from the new frame: their history lags
    * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
    * traced the frame; with several processes holding the whole volume by process 0 for all of
