@@ -177,6 +177,36 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
 vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
   : Internals(new vtkInternals)
 {
+  const ptv::FrameRequest defaults{};
+  const ptv::FrameSettings& scene = defaults.Scene;
+  this->SamplesPerFrame = scene.SamplesPerFrame;
+  this->MaximumAccumulatedFrames = defaults.MaximumAccumulatedFrames;
+  this->TemporalReprojection = defaults.TemporalReprojection;
+  this->MaximumHistory = defaults.MaximumHistory;
+  this->StillQuality = defaults.StillQuality;
+  this->MaximumStillFrames = defaults.MaximumStillFrames;
+  this->StillTimeBudget = defaults.StillTimeBudget;
+  this->Seed = scene.Seed;
+  this->Scattering = scene.Scattering;
+  this->ComputeCoverage = scene.CoverageMarch;
+  this->ExpectedCoverage = scene.ExpectedCoverage;
+  this->ComputeFootprint = scene.FootprintRays;
+  this->EdgeSamples = defaults.EdgeSamples;
+  this->ComputeEdgeSamples = defaults.ComputeEdgeSamples;
+  this->AmbientOcclusion = scene.AmbientOcclusion;
+  this->AmbientOcclusionReach = scene.AmbientOcclusionReach;
+  this->UseRendererLight = scene.UseRendererLight;
+  this->LightIntensity = scene.LightIntensity;
+  std::copy(scene.EnvironmentColor, scene.EnvironmentColor + 3, this->EnvironmentColor);
+  this->UseBackgroundAsEnvironment = scene.UseBackgroundAsEnvironment;
+  this->EnvironmentIntensity = scene.EnvironmentIntensity;
+  this->EmptySpaceSkipping = scene.EmptySpaceSkipping;
+  this->NumberOfThreads = defaults.Threads;
+  this->Backend = defaults.Backend;
+  this->Denoise = defaults.Denoise;
+  this->DenoiserUseNetwork = defaults.Denoiser.UseNetwork;
+  this->DenoiserFootprint = defaults.Denoiser.Footprint;
+  this->DenoiserNumberOfLevels = defaults.Denoiser.Levels;
 }
 
 //------------------------------------------------------------------------------

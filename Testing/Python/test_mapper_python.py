@@ -47,6 +47,32 @@ def test_settings_round_trip() -> None:
     assert isinstance(mapper.GetCudaStatus(), str) and mapper.GetCudaStatus()
 
 
+# The defaults the mapper's header documents (its members take them from the frame loop's
+# request, ptv::FrameRequest, in the constructor: a property missed there would read garbage).
+DOCUMENTED_DEFAULTS = {
+    "SamplesPerFrame": 1, "MaximumAccumulatedFrames": 1024, "TemporalReprojection": True,
+    "MaximumHistory": 1, "ConvergeStillRenders": True, "StillQuality": 40.0,
+    "MaximumStillFrames": 256, "StillTimeBudget": 0.0, "Seed": 0, "Scattering": True,
+    "ComputeCoverage": False, "ExpectedCoverage": False, "ComputeFootprint": False,
+    "EdgeSamples": 3, "ComputeEdgeSamples": False, "AmbientOcclusion": True,
+    "AmbientOcclusionReach": 1.0, "UseRendererLight": True, "LightIntensity": 1.0,
+    "EnvironmentColor": (1.0, 1.0, 1.0), "UseBackgroundAsEnvironment": True,
+    "EnvironmentIntensity": 1.0, "EmptySpaceSkipping": True, "NumberOfThreads": 0,
+    "DistributedVolume": False, "Backend": 0, "Denoise": True, "DenoiserModelFile": None,
+    "DenoiserUseNetwork": True, "DenoiserFootprint": True, "DenoiserNumberOfLevels": 0,
+    "DisplayPass": None,
+}
+
+
+@pytest.mark.parametrize("name", sorted(DOCUMENTED_DEFAULTS))
+def test_documented_defaults(name: str) -> None:
+    value = getattr(ptv.vtkPathTracedVolumeMapper(), "Get" + name)()
+    expected = DOCUMENTED_DEFAULTS[name]
+    if isinstance(expected, bool):
+        value = bool(value)
+    assert value == expected, f"{name}: {value!r}, documented {expected!r}"
+
+
 def test_independent_means_converge() -> None:
     """E|mean_a - mean_b|^2 = 2 Var / N, so the RMS gap between two seeds' N-frame means falls
     like N^-1/2: from N=4 to N=64 it must shrink by 4 (accept 2.5..6.4, a wide band for 1200
