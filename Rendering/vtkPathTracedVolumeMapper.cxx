@@ -202,6 +202,9 @@ vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
   this->EnvironmentIntensity = scene.EnvironmentIntensity;
   this->EmptySpaceSkipping = scene.EmptySpaceSkipping;
   this->NumberOfThreads = defaults.Threads;
+  this->DistributedVolume = defaults.Distributed;
+  std::copy(scene.PieceExtent, scene.PieceExtent + 6, this->PieceExtent);
+  std::copy(scene.WholeExtent, scene.WholeExtent + 6, this->WholeExtent);
   this->Backend = defaults.Backend;
   this->Denoise = defaults.Denoise;
   this->DenoiserUseNetwork = defaults.Denoiser.UseNetwork;

@@ -584,9 +584,9 @@ protected:
   double EnvironmentIntensity;
   bool EmptySpaceSkipping;
   int NumberOfThreads;
-  vtkTypeBool DistributedVolume = false;
-  int PieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
-  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  vtkTypeBool DistributedVolume;
+  int PieceExtent[6];
+  int WholeExtent[6];
   int Backend;
   bool Denoise;
   char* DenoiserModelFile = nullptr;

@@ -58,7 +58,8 @@ DOCUMENTED_DEFAULTS = {
     "AmbientOcclusionReach": 1.0, "UseRendererLight": True, "LightIntensity": 1.0,
     "EnvironmentColor": (1.0, 1.0, 1.0), "UseBackgroundAsEnvironment": True,
     "EnvironmentIntensity": 1.0, "EmptySpaceSkipping": True, "NumberOfThreads": 0,
-    "DistributedVolume": False, "Backend": 0, "Denoise": True, "DenoiserModelFile": None,
+    "DistributedVolume": False, "PieceExtent": (0, -1, 0, -1, 0, -1),
+    "WholeExtent": (0, -1, 0, -1, 0, -1), "Backend": 0, "Denoise": True, "DenoiserModelFile": None,
     "DenoiserUseNetwork": True, "DenoiserFootprint": True, "DenoiserNumberOfLevels": 0,
     "DisplayPass": None,
 }
