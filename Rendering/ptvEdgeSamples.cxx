@@ -84,22 +84,29 @@ int EdgeRadius()
 }
 
 /// The edge pixels [e0, e1) of @a edges, traced with @a p (the extra samples' stream); the
-/// frame samples' own jitter comes from @a frameSeed's. Inlined into both builds below, like
+/// frame samples' own jitter comes from @a frameSeed's. Into @a out: the frame, whose edge
+/// pixels become the mean of all their samples, or with @a list every extra sample into an entry
+/// of its own (TraceEdgeSampleList's layout). Inlined into both builds below, like
 /// ptvCpuTracer's tiles, so each compiles the whole estimator for its instruction set.
 inline void TraceEdges(const TraceParams& p, uint32_t frameSeed, unsigned int firstSample,
   int samples, int edgeSamples, const float* offsets, const std::uint32_t* edges, vtkIdType e0,
-  vtkIdType e1, PassBuffers& frame)
+  vtkIdType e1, bool list, PassBuffers& out)
 {
-  const TracedPassPlanes planes = frame.Planes();
+  const TracedPassPlanes planes = out.Planes();
   const uint32_t width = static_cast<uint32_t>(p.Camera.Width);
   const float total = static_cast<float>(samples) * static_cast<float>(edgeSamples);
+  const std::size_t extra = static_cast<std::size_t>(edgeSamples - 1);
   for (vtkIdType e = e0; e < e1; ++e)
   {
     const uint32_t pixel = edges[e];
     const int x = static_cast<int>(pixel % width);
     const int y = static_cast<int>(pixel / width);
-    PixelSample acc = LoadSample(planes, pixel);
-    ScaleSample(acc, static_cast<float>(samples)); // the frame's sum
+    PixelSample acc{};
+    if (!list)
+    {
+      acc = LoadSample(planes, pixel);
+      ScaleSample(acc, static_cast<float>(samples)); // the frame's sum
+    }
     float corner = -1.f; // step 4d's corner ray, traced at most once for the pixel
     for (int s = 0; s < samples; ++s)
     {
@@ -116,33 +123,50 @@ inline void TraceEdges(const TraceParams& p, uint32_t frameSeed, unsigned int fi
         const float sx = mx + offsets[2 * k];
         const float sy = my + offsets[2 * k + 1];
         const float jitter[2] = { sx < 1.f ? sx : sx - 1.f, sy < 1.f ? sy : sy - 1.f };
-        AddSample(acc, TracePixel(p, x, y, base + static_cast<uint32_t>(k), jitter, &corner));
+        const PixelSample one =
+          TracePixel(p, x, y, base + static_cast<uint32_t>(k), jitter, &corner);
+        if (list) // entry (e x samples + s) x (edgeSamples - 1) + k - 1
+        {
+          const std::size_t sample =
+            static_cast<std::size_t>(e) * static_cast<std::size_t>(samples) +
+            static_cast<std::size_t>(s);
+          StoreSample(planes, sample * extra + static_cast<std::size_t>(k - 1), one);
+        }
+        else
+        {
+          AddSample(acc, one);
+        }
       }
     }
-    ScaleSample(acc, 1.f / total);
-    StoreSample(planes, pixel, acc);
+    if (!list)
+    {
+      ScaleSample(acc, 1.f / total);
+      StoreSample(planes, pixel, acc);
+    }
   }
 }
 
 using EdgesFunction = void (*)(const TraceParams&, uint32_t, unsigned int, int, int,
-  const float*, const std::uint32_t*, vtkIdType, vtkIdType, PassBuffers&);
+  const float*, const std::uint32_t*, vtkIdType, vtkIdType, bool, PassBuffers&);
 
 #ifdef PTV_HAS_AVX2_BUILD
 PTV_AVX2_TARGET __attribute__((flatten)) void TraceEdgesAvx2(const TraceParams& params,
   uint32_t frameSeed, unsigned int firstSample, int samples, int edgeSamples,
-  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
-  PassBuffers& frame)
+  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, bool list,
+  PassBuffers& out)
 {
-  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, list,
+    out);
 }
 #endif
 
 __attribute__((flatten)) void TraceEdgesBaseline(const TraceParams& params,
   uint32_t frameSeed, unsigned int firstSample, int samples, int edgeSamples,
-  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1,
-  PassBuffers& frame)
+  const float* offsets, const std::uint32_t* edges, vtkIdType e0, vtkIdType e1, bool list,
+  PassBuffers& out)
 {
-  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, frame);
+  TraceEdges(params, frameSeed, firstSample, samples, edgeSamples, offsets, edges, e0, e1, list,
+    out);
 }
 
 EdgesFunction SelectEdges(bool portable)
@@ -230,6 +254,28 @@ void FindEdgePixels(
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// TraceEdgeSamples and TraceEdgeSampleList: the extra samples' stream and lattice, threaded.
+void TraceExtraSamples(const TraceParams& params, unsigned int firstSample, int samples,
+  int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable, bool list,
+  PassBuffers& out)
+{
+  const EdgesFunction trace = SelectEdges(portable);
+  const std::vector<float> offsets = LatticeOffsets(edgeSamples);
+  TraceParams extra = params; // the extra samples' own stream
+  extra.Seed = params.Seed ^ PcgHash(kEdgeStream);
+  const std::uint32_t* indices = edges.data();
+  ParallelFor(threads, vtkIdType(0), static_cast<vtkIdType>(edges.size()), vtkIdType(16),
+    [&](vtkIdType e0, vtkIdType e1)
+    {
+      trace(extra, params.Seed, firstSample, samples, edgeSamples, offsets.data(), indices, e0,
+        e1, list, out);
+    });
+}
+}
+
+//------------------------------------------------------------------------------
 void TraceEdgeSamples(const TraceParams& params, unsigned int firstSample, int samples,
   int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable,
   PassBuffers& frame)
@@ -238,17 +284,66 @@ void TraceEdgeSamples(const TraceParams& params, unsigned int firstSample, int s
   {
     return;
   }
-  edgeSamples = std::min(edgeSamples, kMaxEdgeSamples);
-  const EdgesFunction trace = SelectEdges(portable);
-  const std::vector<float> offsets = LatticeOffsets(edgeSamples);
-  TraceParams extra = params; // the extra samples' own stream
-  extra.Seed = params.Seed ^ PcgHash(kEdgeStream);
-  const std::uint32_t* list = edges.data();
-  ParallelFor(threads, vtkIdType(0), static_cast<vtkIdType>(edges.size()), vtkIdType(16),
+  TraceExtraSamples(params, firstSample, samples, std::min(edgeSamples, kMaxEdgeSamples), edges,
+    threads, portable, false, frame);
+}
+
+//------------------------------------------------------------------------------
+std::size_t EdgeSampleListSize(std::size_t edges, int samples, int edgeSamples)
+{
+  if (samples < 1 || edgeSamples < 2)
+  {
+    return 0;
+  }
+  return edges * static_cast<std::size_t>(samples) *
+    static_cast<std::size_t>(std::min(edgeSamples, kMaxEdgeSamples) - 1);
+}
+
+//------------------------------------------------------------------------------
+void TraceEdgeSampleList(const TraceParams& params, unsigned int firstSample, int samples,
+  int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable,
+  PassBuffers& list)
+{
+  const std::size_t size = EdgeSampleListSize(edges.size(), samples, edgeSamples);
+  list.Resize(static_cast<int>(size), size > 0 ? 1 : 0);
+  if (size == 0)
+  {
+    return;
+  }
+  TraceExtraSamples(params, firstSample, samples, std::min(edgeSamples, kMaxEdgeSamples), edges,
+    threads, portable, true, list);
+}
+
+//------------------------------------------------------------------------------
+void MergeEdgeSamples(PassBuffers& list, int samples, int edgeSamples,
+  const std::vector<std::uint32_t>& edges, int threads, PassBuffers& frame)
+{
+  const std::size_t size = EdgeSampleListSize(edges.size(), samples, edgeSamples);
+  if (size == 0 ||
+    static_cast<std::size_t>(list.GetWidth()) * static_cast<std::size_t>(list.GetHeight()) != size)
+  {
+    return;
+  }
+  const std::size_t extra = size / (edges.size() * static_cast<std::size_t>(samples));
+  const float total = static_cast<float>(samples) * static_cast<float>(extra + 1);
+  const TracedPassPlanes from = list.Planes();
+  const TracedPassPlanes to = frame.Planes();
+  ParallelFor(threads, vtkIdType(0), static_cast<vtkIdType>(edges.size()), vtkIdType(64),
     [&](vtkIdType e0, vtkIdType e1)
     {
-      trace(extra, params.Seed, firstSample, samples, edgeSamples, offsets.data(), list, e0, e1,
-        frame);
+      for (vtkIdType e = e0; e < e1; ++e)
+      {
+        PixelSample acc = LoadSample(to, edges[e]);
+        ScaleSample(acc, static_cast<float>(samples)); // the frame's sum
+        const std::size_t count = static_cast<std::size_t>(samples) * extra;
+        const std::size_t first = static_cast<std::size_t>(e) * count;
+        for (std::size_t i = 0; i < count; ++i)
+        {
+          AddSample(acc, LoadSample(from, first + i));
+        }
+        ScaleSample(acc, 1.f / total);
+        StoreSample(to, edges[e], acc);
+      }
     });
 }
 }

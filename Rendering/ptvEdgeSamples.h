@@ -25,6 +25,7 @@
 
 #include "Kernels/ptvIntegrator.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -57,6 +58,31 @@ void FindEdgePixels(
 void TraceEdgeSamples(const TraceParams& params, unsigned int firstSample, int samples,
   int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable,
   PassBuffers& frame);
+
+/// Entries of TraceEdgeSampleList's list: @a edges x @a samples x (@a edgeSamples - 1), 0 when
+/// @a samples < 1 or @a edgeSamples < 2.
+std::size_t EdgeSampleListSize(std::size_t edges, int samples, int edgeSamples);
+
+/**
+ * For a volume split into pieces (ptvPieces.h), whose samples are composited one by one: the
+ * extra samples TraceEdgeSamples would trace (the same rays, lattice and stream), each stored
+ * alone in @a list, resized to EdgeSampleListSize() x 1 entries: entry (e x @a samples + s) x
+ * (@a edgeSamples - 1) + k - 1 holds extra sample k (1 .. edgeSamples - 1) of frame sample s of
+ * edge pixel e. Every process traces its piece's list; composited like a frame
+ * (Ranks::GatherFrame), MergeEdgeSamples adds it to the composited frame.
+ */
+void TraceEdgeSampleList(const TraceParams& params, unsigned int firstSample, int samples,
+  int edgeSamples, const std::vector<std::uint32_t>& edges, int threads, bool portable,
+  PassBuffers& list);
+
+/**
+ * @a frame's pixels @a edges (the mean of @a samples samples) become the mean of those and the
+ * extra samples in @a list (TraceEdgeSampleList's layout, for the same @a samples,
+ * @a edgeSamples and @a edges; a list of another size changes nothing). Traced by one process,
+ * list and merge give TraceEdgeSamples' frame up to float rounding.
+ */
+void MergeEdgeSamples(PassBuffers& list, int samples, int edgeSamples,
+  const std::vector<std::uint32_t>& edges, int threads, PassBuffers& frame);
 }
 
 #endif

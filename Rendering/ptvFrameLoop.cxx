@@ -267,23 +267,7 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
     // composited) and accumulates it; the others only trace.
     keep = this->Parallel.GatherFrame(this->Frame, kTracedPassCount, piece, request.Threads);
   }
-  // The volume's edges for the denoiser, on the whole frame: process 0 (which holds the whole
-  // volume unless it is distributed) traces them for the samples of every process, which are
-  // one block from its own first sample on (Ranks::FirstSample), so N processes give the frame
-  // of one with N times the samples. Not for distributed pieces, whose samples are composited
-  // one by one (above).
-  this->LastEdgeFraction = 0.0;
-  this->EdgePixels.clear();
-  if (keep && edgeSamples > 1 && !(this->Parallel.IsDistributed() && this->Parallel.IsParallel()))
-  {
-    FindEdgePixels(this->Frame.Data(PassCoverage), this->Frame.GetWidth(),
-      this->Frame.GetHeight(), request.Threads, this->EdgePixels);
-    this->SwapEdgeFirstHits(this->Frame, true); // keep the frame samples' own first hits
-    TraceEdgeSamples(this->Params, firstSample, samples * this->Parallel.GetSize(), edgeSamples,
-      this->EdgePixels, request.Threads, UsePortableKernels(false), this->Frame);
-    this->LastEdgeFraction = static_cast<double>(this->EdgePixels.size()) /
-      (static_cast<double>(this->Frame.GetWidth()) * this->Frame.GetHeight());
-  }
+  this->TraceEdges(request, firstSample, edgeSamples, keep, piece);
   if (!problem.empty() && problem != this->BackendProblem)
   {
     messages.emplace_back(true, problem);
@@ -301,6 +285,60 @@ void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
   this->DenoisedValid = false;
   this->LastRenderTraced = true;
   this->LastTraceTime += 1000.0 * (Now() - start);
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::TraceEdges(const FrameRequest& request, unsigned int firstSample,
+  int edgeSamples, bool keep, const PieceView& piece)
+{
+  this->LastEdgeFraction = 0.0;
+  this->EdgePixels.clear();
+  const bool pieces = this->Parallel.IsDistributed() && this->Parallel.IsParallel();
+  if (edgeSamples < 2 || !(keep || pieces))
+  {
+    return;
+  }
+  const int samples = request.Scene.SamplesPerFrame;
+  if (keep)
+  {
+    FindEdgePixels(this->Frame.Data(PassCoverage), this->Frame.GetWidth(),
+      this->Frame.GetHeight(), request.Threads, this->EdgePixels);
+  }
+  if (pieces)
+  {
+    // Every piece traces the extra samples through its part of the same rays (the same
+    // jitter, march offset and stream; its own events, PieceStream), and process 0 composites
+    // them sample by sample, like the frame's own samples (Trace): the edge pixels of the
+    // composited frame, which process 0 found, get the samples one process would trace.
+    this->Parallel.Agree(this->EdgePixels);
+    if (this->EdgePixels.empty())
+    {
+      return;
+    }
+    TraceEdgeSampleList(this->Params, firstSample, samples, edgeSamples, this->EdgePixels,
+      request.Threads, UsePortableKernels(false), this->EdgeList);
+    if (!this->Parallel.GatherFrame(this->EdgeList, kTracedPassCount, piece, request.Threads))
+    {
+      this->EdgePixels.clear(); // the others' lists have been used
+      return;
+    }
+  }
+  this->SwapEdgeFirstHits(this->Frame, true); // keep the frame samples' own first hits
+  if (pieces)
+  {
+    MergeEdgeSamples(
+      this->EdgeList, samples, edgeSamples, this->EdgePixels, request.Threads, this->Frame);
+  }
+  else
+  {
+    // With the whole volume process 0 traces them for the samples of every process, which are
+    // one block from its own first sample on (Ranks::FirstSample): N processes give the frame
+    // of one with N times the samples.
+    TraceEdgeSamples(this->Params, firstSample, samples * this->Parallel.GetSize(), edgeSamples,
+      this->EdgePixels, request.Threads, UsePortableKernels(false), this->Frame);
+  }
+  this->LastEdgeFraction = static_cast<double>(this->EdgePixels.size()) /
+    (static_cast<double>(this->Frame.GetWidth()) * this->Frame.GetHeight());
 }
 
 //------------------------------------------------------------------------------

@@ -139,6 +139,10 @@ public:
 private:
   /// Trace one frame (this process's block of samples) and, where it is kept, accumulate it.
   void Trace(const FrameRequest& request, FrameMessages& messages);
+  /// The frame's edge samples (ptvEdgeSamples.h) for @a edgeSamples > 1, on process 0's whole
+  /// frame (@a keep); distributed pieces trace them together (collective).
+  void TraceEdges(const FrameRequest& request, unsigned int firstSample, int edgeSamples,
+    bool keep, const PieceView& piece);
   /// The traced frame joins the accumulation (reprojected history, running mean, counts).
   void AccumulateFrame(const FrameRequest& request);
   /// A moved view: the accumulation reprojected into the traced frame (ptvReprojection), the
@@ -164,6 +168,7 @@ private:
   TracerRunner Tracer;
   PassBuffers Frame;
   PassBuffers Sample; ///< distributed pieces, SamplesPerFrame > 1: one sample at a time
+  PassBuffers EdgeList; ///< distributed pieces: every extra edge sample on its own
   PassBuffers Accumulated;
   Reprojection History;
   CameraRays AccumulatedCamera{}; ///< the camera of the accumulated passes

@@ -201,4 +201,22 @@ int Ranks::Agree(int value)
   }
   return value;
 }
+
+//------------------------------------------------------------------------------
+void Ranks::Agree(std::vector<std::uint32_t>& values)
+{
+  if (!this->IsParallel())
+  {
+    return;
+  }
+  int count = this->Rank == 0 ? static_cast<int>(values.size()) : 0;
+  this->Controller->Broadcast(&count, 1, 0);
+  values.resize(static_cast<std::size_t>(count));
+  if (count > 0)
+  {
+    static_assert(sizeof(unsigned int) == sizeof(std::uint32_t), "32-bit unsigned int");
+    this->Controller->Broadcast(
+      reinterpret_cast<unsigned int*>(values.data()), static_cast<vtkIdType>(count), 0);
+  }
+}
 }

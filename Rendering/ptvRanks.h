@@ -24,6 +24,7 @@
 
 #include "vtkSmartPointer.h"
 
+#include <cstdint>
 #include <vector>
 
 class vtkMultiProcessController;
@@ -90,6 +91,8 @@ public:
 
   /// Process 0's @a value on every process (collective).
   int Agree(int value);
+  /// Process 0's @a values on every process, in place (collective).
+  void Agree(std::vector<std::uint32_t>& values);
 
 private:
   /// GatherFrame for distributed pieces.

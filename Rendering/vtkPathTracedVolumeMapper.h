@@ -252,8 +252,8 @@ public:
    * (TemporalReprojection), edge pixels start again from the new frame: their history lags
    * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
    * traced the frame; with several processes holding the whole volume by process 0 for all of
-   * them; not for a DistributedVolume split across processes (whose pieces are composited
-   * sample by sample).
+   * them; for a DistributedVolume split across processes by every process through its piece,
+   * composited sample by sample like the frame's own samples.
    */
   vtkSetClampMacro(EdgeSamples, int, 1, 64);
   vtkGetMacro(EdgeSamples, int);

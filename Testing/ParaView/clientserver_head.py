@@ -26,8 +26,8 @@ frame together (the volume is replicated): the builtin session uses SamplesPerFr
 server's passes must still equal its passes (rank r traces sample block f N + r).
 With ``PTV_SERVER_SPLIT`` = 1 as well, the server splits the volume (ReplicateVolumeLimit 0):
 each rank traces its piece and rank 0 composites them. The builtin session then uses
-SamplesPerFrame 1 and both EdgeSamples 1 (the pieces get none): the pieces trace its camera
-rays and samples, so the first-hit passes (Depth,
+SamplesPerFrame 1 and both EdgeSamples 1 (the edge pixels would follow the pieces' own events):
+the pieces trace its camera rays and samples, so the first-hit passes (Depth,
 Position, Normal, Albedo) equal the builtin ones (to float rounding, at 99.9 % of the pixels),
 while the events are the pieces' own random numbers: the Radiance's mean agrees within 2 % and
 the screenshot within a noise-sized mean difference.
@@ -99,8 +99,11 @@ def build_scene(name: str, remote: bool):
     if remote and SPLIT:
         display.ReplicateVolumeLimit = 0
     if SPLIT:
-        # A split volume's pieces get no edge samples (README, "Edge samples"): compare with
-        # one process without them.
+        # Without edge samples on either side: which pixels get them follows each frame's
+        # opacities (with the fixed guide the events' Alpha), and the pieces draw their events
+        # from their own streams, so an edge pixel of one session need not be one of the other,
+        # and its first-hit means would then hold other samples. mpi_distributed.py checks the
+        # split's edge samples.
         display.EdgeSamples = 1
     display.ConvergeStillRenders = 0  # frames are counted per render (streaming passes)
     display.PassesFileName = os.path.join(TEMP, name + ".exr")

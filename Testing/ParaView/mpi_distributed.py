@@ -13,13 +13,15 @@ Checks, all against a 2048-spp 1-rank reference traced with another seed:
    piece boundary) misses the same bounds, so the check sees a seam;
 2. the same at 1 sample per frame (8 frames): composited frames accumulate like one rank's;
 3. denoised: 2 ranks' Denoised pass (rank 0 denoises the composited frame) within 1.0 dB of
-   1 rank's at 8 spp. The split frames are a little noisier than one rank's (8 spp raw: 0.13 dB
-   below), and the denoiser keeps more of that: measured 2 ranks below 1 rank by 0.27-0.47 dB
-   (an early model, seeds 1-3), 0.28-0.63 dB (the PAPER_10 model at 1 level), 0.45 dB (its
-   3 levels, this test's default at 128^2) and 0.74 dB (the coverage model, 2026-12-05, whose
-   composited Coverage pass matches one rank's within the march's 0.01 cutoff). A wrong
-   composite (features, passes or order) costs several dB. Split pieces get no edge samples
-   (EdgeSamples), so the 1-rank run has none either;
+   1 rank's at 8 spp, both with their edge samples (the default EdgeSamples; the pieces trace
+   them together, composited sample by sample). The split frames are a little noisier than one
+   rank's (8 spp raw: 0.13 dB below), and the denoiser keeps more of that: measured 2 ranks
+   below 1 rank by 0.27-0.47 dB (an early model, seeds 1-3), 0.28-0.63 dB (the PAPER_10 model
+   at 1 level), 0.45 dB (its 3 levels, this test's default at 128^2), 0.74 dB (the coverage
+   model, 2026-12-05, without edge samples) and 0.22 dB (with them, 2026-12-06). A wrong
+   composite (features, passes or order) costs several dB. Rank 0 finds the same edge pixels
+   as one rank (within a tenth of their count; measured equal), and the edge samples lift the
+   split frame by at least EDGE_GAIN over the same ranks without them (measured +1.81 dB);
 4. every rank reports no error or warning; NumberOfSamplingRanks is N;
 5. a volume too small to give 4 ranks a piece each (mpi_tiny.py, 2 x 2 x 2 points) renders
    instead of hanging: it is replicated whatever the limit.
@@ -39,6 +41,8 @@ import ptvpvtest  # noqa: E402
 from mpi_replicated import finish, radiance, read, run, screenshot  # noqa: E402
 
 SPLIT = ("--replicate-limit", "0")
+# The edge samples' gain on the split frame, denoised: measured +1.81 dB (2026-12-06).
+EDGE_GAIN = 1.0
 
 
 def denoised(path: Path):
@@ -85,14 +89,26 @@ def main() -> int:
     one_low = compare("one_8spp", 1, *low)
     compare("ranks2_8spp", 2, *low, *SPLIT, baseline=one_low)
 
-    # A split volume's pieces get no edge samples (README, "Edge samples"): one rank without.
-    run(1, tmp / "one_denoised", *low, "--denoise", "1", "--edge-samples", "1")
-    infos.append(run(2, tmp / "ranks2_denoised", *low, *SPLIT, "--denoise", "1"))
+    # With their edge samples (the default EdgeSamples), traced by every piece and composited
+    # sample by sample like the frame's own samples; and without them, the control.
+    one_info = run(1, tmp / "one_denoised", *low, "--denoise", "1")
+    two_info = run(2, tmp / "ranks2_denoised", *low, *SPLIT, "--denoise", "1")
+    infos.append(two_info)
+    infos.append(run(2, tmp / "ranks2_denoised_noedges", *low, *SPLIT, "--denoise", "1",
+                     "--edge-samples", "1"))
     ref_denoised = denoised(tmp / "reference" / "passes.exr")
     d_one = psnr(ref_denoised, denoised(tmp / "one_denoised" / "passes.exr"))
     d_two = psnr(ref_denoised, denoised(tmp / "ranks2_denoised" / "passes.exr"))
+    d_none = psnr(ref_denoised, denoised(tmp / "ranks2_denoised_noedges" / "passes.exr"))
     check(d_two >= d_one - 1.0, f"2 ranks denoised: PSNR {d_two:.2f} dB >= 1 rank {d_one:.2f} "
           "- 1.0 dB")
+    f_one = one_info["rank0"]["edge_fraction"]
+    f_two = two_info["rank0"]["edge_fraction"]
+    check(f_one > 0 and abs(f_two - f_one) <= 0.1 * f_one,
+          f"2 ranks' edge pixels {100 * f_two:.2f} % of the frame, 1 rank's {100 * f_one:.2f} % "
+          "(within a tenth)")
+    check(d_two >= d_none + EDGE_GAIN, f"2 ranks denoised with edge samples: PSNR {d_two:.2f} "
+          f"dB >= without {d_none:.2f} + {EDGE_GAIN} dB")
 
     # 5. More ranks than pieces: replicated, not a rank without data that the others wait for.
     import json

@@ -93,7 +93,8 @@ mapper = display.GetClientSideObject().GetActiveRepresentation().GetActor().GetM
 piece = {"input_extent": list(mapper.GetInput().GetExtent()),
          "piece_extent": list(mapper.GetPieceExtent()),
          "whole_extent": list(mapper.GetWholeExtent()),
-         "distributed": bool(mapper.GetDistributedVolume())}
+         "distributed": bool(mapper.GetDistributedVolume()),
+         "edge_fraction": mapper.GetLastEdgeFraction()}
 info = {"ranks": ranks, "rank0": piece, "frames": args.frames, "seconds_after_first": seconds,
         "accumulated_before_screenshot": before, "accumulated_after_screenshot": frames(),
         "sampling_ranks": display.GetProperty("NumberOfSamplingRanks").GetData(),
