@@ -291,6 +291,11 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
   {
     this->DenoiseOpacity(settings, passes[PassAlpha], width, height, alpha, out);
   }
+  if (passes[PassSampleRatio])
+  {
+    LeanTowardsOwnMeans(settings.Threads, width, height, passes[PassSampleRatio],
+      passes[PassRadiance], passes[PassAlpha], out, alpha);
+  }
   if (settings.Footprint && passes[PassFootprint])
   {
     KeepEmptyBlack(settings.Threads, width, height, passes[PassFootprint], out, alpha);
@@ -476,6 +481,44 @@ void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alp
   this->Grid.Apply(grid, settings.UseCuda, width, height, rgb, nullptr,
     levels > 1 ? fine : guides, nullptr, this->Filtered.data(), cudaError);
   FinishOpacity(threads, width, height, this->Filtered.data(), 3, alpha, color);
+}
+
+//------------------------------------------------------------------------------
+void Denoiser::LeanTowardsOwnMeans(int threads, int width, int height, const float* ratio,
+  const float* radiance, const float* alphaIn, float* color, float* alpha)
+{
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  ParallelFor(threads, std::size_t{ 0 }, n, std::size_t{ 1 } << 15,
+    [&](std::size_t begin, std::size_t end)
+    {
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        const float w = OwnMeanWeight(ratio[i]);
+        if (w == 0.f)
+        {
+          continue;
+        }
+        const float* own = radiance + 3 * i;
+        bool usable = true;
+        for (int c = 0; c < 3; ++c)
+        {
+          usable = usable && own[c] >= 0.f && own[c] < 3.4e38f; // not NaN, negative or Inf
+        }
+        if (!usable)
+        {
+          continue;
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          color[3 * i + c] += w * (own[c] - color[3 * i + c]);
+        }
+        if (alpha && alphaIn)
+        {
+          const float a = std::min(1.f, std::max(0.f, alphaIn[i])); // NaN -> 0
+          alpha[i] += w * ((alphaIn[i] == alphaIn[i] ? a : alpha[i]) - alpha[i]);
+        }
+      }
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -61,6 +61,24 @@ struct DenoiserTimings
   double Alpha = 0;
 };
 
+/// What a pixel's denoised value counts for, in samples of a plain pixel, when it is weighed
+/// against the pixel's own mean (Run's SampleRatio step). Chosen on the Table-1 views with 3
+/// edge samples among 1.5, 2, 3, 4 and 6: 4 is the least that never loses to no weighting on
+/// any dataset at 256² or 512² (docs/edge-samples.md).
+constexpr float kDenoisedSampleWorth = 4.f;
+
+/// The weight of its own mean in the result of a pixel whose mean holds @a ratio times a
+/// plain pixel's samples: its ratio - 1 extra samples against the denoised value's
+/// kDenoisedSampleWorth; 0 for @a ratio <= 1, NaN or infinite.
+inline float OwnMeanWeight(float ratio)
+{
+  if (!(ratio > 1.f) || !(ratio < 3.4e38f))
+  {
+    return 0.f;
+  }
+  return (ratio - 1.f) / (ratio - 1.f + kDenoisedSampleWorth);
+}
+
 class Denoiser
 {
 public:
@@ -85,6 +103,14 @@ public:
    * (x + 1, y), (x, y + 1), (x + 1, y + 1), clamped at the image's edge -- are set to 0 in @a out
    * (and @a alpha): the grid spreads the colour of a thin structure into the empty pixels of
    * its guide bin, which one sample cannot tell from the fringe its ray missed.
+   *
+   * With the SampleRatio pass (how many times a plain pixel's samples each pixel's mean holds:
+   * the mapper's edge pixels hold EdgeSamples times, docs/edge-samples.md) a pixel of ratio
+   * r > 1 takes OwnMeanWeight(r) of its own mean (Radiance; Alpha for @a alpha) and the rest of
+   * its denoised value, before the Footprint step: the grid averages a well-sampled pixel with
+   * its one-sample neighbours, and on a thin structure's fringe that loses more than the extra
+   * samples' own noise. Ratios <= 1, NaN or infinite, and pixels whose own mean is not finite
+   * and non-negative, keep the denoised value.
    */
   bool Run(const DenoiserSettings& settings, const float* const* passes, int width, int height,
     float* out, std::string& error, const DenoiserOverrides* given = nullptr,
@@ -136,6 +162,10 @@ private:
   /// clamped to [0, 1], and @a color set to 0 where that is 0.
   static void FinishOpacity(int threads, int width, int height, const float* filtered,
     int stride, float* alpha, float* color);
+  /// @a color (and @a alpha, if given) moved towards the pixel's own mean @a radiance
+  /// (@a alphaIn) by OwnMeanWeight(@a ratio) (Run).
+  static void LeanTowardsOwnMeans(int threads, int width, int height, const float* ratio,
+    const float* radiance, const float* alphaIn, float* color, float* alpha);
   /// @a color (and @a alpha, if given) set to 0 where @a footprint marks the pixel empty (Run).
   static void KeepEmptyBlack(int threads, int width, int height, const float* footprint,
     float* color, float* alpha);

@@ -293,6 +293,7 @@ void FrameLoop::TraceEdges(const FrameRequest& request, unsigned int firstSample
 {
   this->LastEdgeFraction = 0.0;
   this->EdgePixels.clear();
+  this->EdgeSampleCount = 1;
   const bool pieces = this->Parallel.IsDistributed() && this->Parallel.IsParallel();
   if (edgeSamples < 2 || !(keep || pieces))
   {
@@ -337,6 +338,7 @@ void FrameLoop::TraceEdges(const FrameRequest& request, unsigned int firstSample
     TraceEdgeSamples(this->Params, firstSample, samples * this->Parallel.GetSize(), edgeSamples,
       this->EdgePixels, request.Threads, UsePortableKernels(false), this->Frame);
   }
+  this->EdgeSampleCount = std::min(edgeSamples, kMaxEdgeSamples);
   this->LastEdgeFraction = static_cast<double>(this->EdgePixels.size()) /
     (static_cast<double>(this->Frame.GetWidth()) * this->Frame.GetHeight());
 }
@@ -368,6 +370,14 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
+  // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples: the denoiser
+  // leans their result towards their own mean (ptvDenoiser.h, SampleRatio).
+  float* ratio = this->Accumulated.Data(PassSampleRatio);
+  std::fill(ratio, ratio + static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 1.f);
+  for (const std::uint32_t pixel : this->EdgePixels)
+  {
+    ratio[pixel] = static_cast<float>(this->EdgeSampleCount);
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -448,6 +458,13 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
     passes[p] = acc.Data(p);
   }
   passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
+  // The edge pixels lean towards their own means (SampleRatio) until the Converged pass
+  // weighs every pixel's mean against the denoised value by their estimated errors (which
+  // assume the two independent).
+  if (this->AccumulatedFrames < Convergence::kMinimumBlendFrames)
+  {
+    passes[PassSampleRatio] = acc.Data(PassSampleRatio);
+  }
   const double start = Now();
   std::string error;
   // With the opacity it is drawn with: Alpha through the same grid (one frame's alpha is 0 or 1

@@ -180,6 +180,7 @@ private:
   std::vector<float> ZBuffer;
   std::vector<std::uint32_t> EdgePixels; ///< the last frame's (ptvEdgeSamples.h)
   std::vector<float> EdgeFirstHits;      ///< their frame sample's Depth and Albedo
+  int EdgeSampleCount = 1;               ///< the EdgeSamples they got (1: none)
   std::vector<float> ConvergedAlpha; ///< the opacity the Converged pass is drawn with
 
   int AccumulatedFrames = 0;

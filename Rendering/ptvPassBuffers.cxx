@@ -25,6 +25,7 @@ const PassInfo kPasses[PassCount] = {
   { "Converged", 3 },
   { "HistoryLength", 1 },
   { "DenoisedAlpha", 1 },
+  { "SampleRatio", 1 },
 };
 }
 

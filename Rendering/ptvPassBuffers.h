@@ -33,6 +33,7 @@ enum PassId
   PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
   PassHistoryLength, ///< frames in each pixel's accumulated mean (ptvReprojection; capped history)
   PassDenoisedAlpha, ///< Alpha through the denoiser's grid: the opacity Denoised is drawn with
+  PassSampleRatio,   ///< each pixel's samples per frame over a plain pixel's (EdgeSamples; 1)
   PassCount
 };
 

@@ -23,9 +23,9 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
   const int comps = GetPassInfo(pass).Components;
   const float* data = acc.Data(pass);
   float lo = std::numeric_limits<float>::max(), hi = -lo;
-  if (pass == PassHistoryLength)
+  if (pass == PassHistoryLength || pass == PassSampleRatio)
   {
-    lo = 0.0f; // frames / the most frames: grey levels
+    lo = 0.0f; // frames (samples) / the most: grey levels
     hi = std::max(1.0f, *std::max_element(data, data + n));
   }
   else if (comps == 1 && pass != PassAlpha && pass != PassDenoisedAlpha)
@@ -46,7 +46,7 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
     {
       c[0] = c[1] = c[2] = data[i];
     }
-    else if (pass == PassHistoryLength)
+    else if (pass == PassHistoryLength || pass == PassSampleRatio)
     {
       c[0] = c[1] = c[2] = data[i] / hi;
     }

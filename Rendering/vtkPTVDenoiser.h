@@ -15,7 +15,12 @@
  * when the model says so) is splatted into each level's bilateral grid, sliced with the level's
  * guide, blended and re-modulated (Rendering/Kernels/ptvBilateralGrid.h, which the torch
  * reference Training/ptv_training/bilateral_grid.py follows). GetGuides() and
- * GetBlendWeights() return what the network predicted. With a "Footprint" image
+ * GetBlendWeights() return what the network predicted. With a "SampleRatio" image (how many
+ * times a plain pixel's samples each pixel's mean holds, as the mapper's pass of that name: its
+ * edge pixels hold EdgeSamples times) every pixel of ratio r > 1 takes (r - 1) / (r - 1 + 4) of
+ * its own mean (Radiance; Alpha for DenoisedAlpha) and the rest of its denoised value: the
+ * denoised value counts as 4 samples (ratios <= 1, NaN or infinite, and pixels whose radiance
+ * is not finite and non-negative keep it). With a "Footprint" image
  * (vtkPathTracedVolumeMapper::ComputeFootprint) the pixels whose four corners it marks 0 --
  * empty space -- come out black (and transparent in the DenoiseAlpha opacity).
  *

@@ -36,7 +36,10 @@
  * DenoiseAlpha): Denoised is drawn with it as its opacity, and
  * Converged with the same per-pixel blend of it and Alpha as its colour's (ptvConvergence); one
  * frame's Alpha is 0 or 1 per pixel, which would show the background through every pixel whose
- * ray met no event however much colour the denoiser gave it.
+ * ray met no event however much colour the denoiser gave it. "SampleRatio" is how many times a
+ * plain pixel's samples each pixel's mean holds in the last frame: EdgeSamples on its edge
+ * pixels, 1 elsewhere; below 8 accumulated frames the denoiser leans those pixels towards their
+ * own means by it (vtkPTVDenoiser, "SampleRatio").
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h
@@ -250,8 +253,10 @@ public:
    * trace time (stent 0.3-0.7 dB for 27-40 %), the third another 0.1-0.4 dB for 2-6 % (stent
    * 0.1-0.2 dB for 13-18 %), as much as 4 give (docs/edge-samples.md). When the camera moves
    * (TemporalReprojection), edge pixels start again from the new frame: their history lags
-   * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
-   * traced the frame; with several processes holding the whole volume by process 0 for all of
+   * behind the silhouette. The denoiser leans them towards their own means (the SampleRatio
+   * pass): on the stent's thin vessels the grid's average with their one-sample neighbours
+   * loses more than their extra samples' noise. Edge samples are traced on the CPU, also when
+   * the CUDA backend traced the frame; with several processes holding the whole volume by process 0 for all of
    * them; for a DistributedVolume split across processes by every process through its piece,
    * composited sample by sample like the frame's own samples.
    */

@@ -67,7 +67,7 @@ def main() -> int:
     from ptv_training.evaluate import cpp_denoise
     from ptv_training.scene import Scene
 
-    names = list(exr_io.INPUT_PASSES) + ["Footprint"]
+    names = list(exr_io.INPUT_PASSES) + ["Footprint", "SampleRatio"]
     rows: List[Dict[str, Any]] = []
     identical = True
     for size in a.sizes:
@@ -85,7 +85,8 @@ def main() -> int:
                     if count == 1:
                         base = passes
                         if not all(np.array_equal(passes[n].reshape(cached["inputs"][n].shape),
-                                                  cached["inputs"][n]) for n in names):
+                                                  cached["inputs"][n])
+                                   for n in names if n in cached["inputs"]):
                             raise RuntimeError(f"{ds} {size} {cam}: the cached view is not "
                                                "this tracer's: delete it from --cache")
                     elif base:

@@ -110,8 +110,9 @@ int TestPTVConcurrentRender(int, char*[])
   const int frames = 4;
   const Images first = RenderScene(0, frames, nullptr);
   const Images second = RenderScene(1, frames, nullptr);
-  Check(first.size() == 18 && second.size() == 18,
-    "17 passes each (11 traced + 4 denoiser + HistoryLength + DenoisedAlpha) and the frame count");
+  Check(first.size() == 19 && second.size() == 19,
+    "18 passes each (11 traced + 4 denoiser + HistoryLength + DenoisedAlpha + SampleRatio) and "
+    "the frame count");
   Check(first != second, "the two scenes differ");
 
   for (int round = 0; round < 3; ++round)

@@ -147,8 +147,8 @@ void TestPasses()
   vtkNew<vtkImageData> image;
   Check(!s.Mapper->GetPass("Radiance", image), "no pass before the first render");
   s.Window->Render();
-  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 17,
-    "11 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha");
+  Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 18,
+    "11 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha + SampleRatio");
   for (int i = 0; i < 10; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);

@@ -78,16 +78,21 @@ def read_window(window: Any) -> np.ndarray:
 
 
 TRACED_PASSES = 11  # the traced passes come first (vtkPathTracedVolumeMapper::GetPassName)
+MINIMUM_BLEND_FRAMES = 8  # ptv::Convergence::kMinimumBlendFrames
 
 
 def set_traced_passes(mapper: Any, denoiser: Any) -> list:
     """Give ``denoiser`` (a vtkPTVDenoiser) the mapper's traced passes by name, as the mapper's
-    own denoise sees them; returns the images (keep them while the denoiser runs)."""
+    own denoise sees them (with its SampleRatio pass below 8 accumulated frames, where the
+    edge pixels lean towards their own means); returns the images (keep them while the
+    denoiser runs)."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     images = []
-    for i in range(TRACED_PASSES):
-        name = mapper.GetPassName(i)
+    names = [mapper.GetPassName(i) for i in range(TRACED_PASSES)]
+    if mapper.GetAccumulatedFrames() < MINIMUM_BLEND_FRAMES:
+        names.append("SampleRatio")
+    for name in names:
         image = vtkImageData()
         assert mapper.GetPass(name, image), name
         image.GetPointData().SetActiveScalars(name)

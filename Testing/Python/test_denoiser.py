@@ -487,3 +487,47 @@ def test_nan_inf_zero_albedo_and_odd_sizes(variant_models, variant) -> None:
         ok, out, den, messages = cxx_denoise(p, str(path))
         assert ok and den.GetNetworkActive() and messages == []
         assert out.shape == (h, w, 3) and np.isfinite(out).all(), (h, w)
+
+
+@pytest.mark.parametrize("use_network", [True, False], ids=["network", "fixed_guide"])
+def test_sample_ratio_leans_towards_own_means(passes, random_model, use_network) -> None:
+    """A "SampleRatio" image (how many times a plain pixel's samples each pixel's mean holds;
+    the mapper's edge pixels hold EdgeSamples times) moves every pixel of ratio r > 1 towards
+    its own mean by w = (r - 1) / (r - 1 + 4) (ptv::OwnMeanWeight, kDenoisedSampleWorth 4):
+    out = D + w (mean - D), in the colour (Radiance) and in the DenoisedAlpha opacity (Alpha),
+    D being the result without the image. Ratios <= 1, NaN and infinite, and pixels whose own
+    radiance is NaN, infinite or negative, keep D; so does an image of ones."""
+    p = {k: v for k, v in passes.items() if k != "Footprint"}  # its step would clear pixels
+    h, w = H_of(p), p["Radiance"].shape[1]
+    rng = np.random.default_rng(5)
+    ratio = np.ones((h, w, 1), np.float32)
+    ratio[rng.random((h, w)) < 0.3] = 3.0
+    ratio[rng.random((h, w)) < 0.1] = 8.0
+    ratio[0, :5, 0] = [np.nan, np.inf, -2.0, 0.5, 1.0]
+    radiance = p["Radiance"].copy()
+    radiance[1, :3] = [[np.nan, 0, 0], [np.inf, 0, 0], [-1.0, 0, 0]]
+    ratio[1, :3] = 3.0
+    p = dict(p, Radiance=radiance)
+    settings = dict(DenoiseAlpha=True, UseNetwork=use_network)
+
+    def run(extra: dict) -> tuple:
+        ok, out, den, messages = cxx_denoise(dict(p, **extra), str(random_model[0]), **settings)
+        assert ok and messages == [], den.GetStatus()
+        assert den.GetNetworkActive() == use_network, den.GetStatus()
+        alpha = vtk_to_numpy(den.GetOutput().GetPointData().GetArray("DenoisedAlpha"))
+        return out.copy(), alpha.reshape(h, w).copy()
+
+    base, base_alpha = run({})
+    leaned, leaned_alpha = run({"SampleRatio": ratio})
+    r = np.where(np.isfinite(ratio[..., 0]), ratio[..., 0], 1.0)
+    usable = np.all(np.isfinite(radiance) & (radiance >= 0), axis=-1)
+    weight = np.where(usable & (r > 1), (r - 1) / (np.maximum(r, 1) - 1 + 4.0), 0.0)
+    own = np.where(usable[..., None], radiance, base)
+    want = base + weight[..., None] * (own - base)
+    want_alpha = base_alpha + weight * (np.clip(p["Alpha"][..., 0], 0, 1) - base_alpha)
+    assert (weight > 0).sum() > 0.3 * h * w and np.any(np.abs(leaned - base) > 1e-3)
+    assert np.allclose(leaned, want, rtol=1e-5, atol=1e-6)
+    assert np.allclose(leaned_alpha, want_alpha, rtol=1e-5, atol=1e-6)
+    assert np.array_equal(leaned[weight == 0], base[weight == 0])
+    ones, ones_alpha = run({"SampleRatio": np.ones((h, w, 1), np.float32)})
+    assert np.array_equal(ones, base) and np.array_equal(ones_alpha, base_alpha)

@@ -62,6 +62,17 @@ def test_only_edge_pixels_change() -> None:
     assert changed[mask].mean() > 0.3
 
 
+def test_sample_ratio_pass_marks_them() -> None:
+    """The SampleRatio pass (what the denoiser leans towards each pixel's own mean by) is
+    EdgeSamples on the rule's mask and 1 elsewhere; 1 everywhere without edge samples."""
+    plain, plain_mapper = render(3, compute=False)
+    assert np.all(get_pass(plain_mapper, "SampleRatio", SIZE) == 1.0)
+    _, mapper = render(3, compute=True)
+    mask = edge_mask(grid(plain["Coverage"])[..., 0])
+    ratio = grid(get_pass(mapper, "SampleRatio", SIZE))[..., 0]
+    assert mask.any() and np.all(ratio[mask] == 3.0) and np.all(ratio[~mask] == 1.0)
+
+
 def test_frames_are_deterministic_and_thread_independent() -> None:
     """The same seed gives the same frame, on one thread or two; EdgeSamples 1 is the plain
     frame."""

@@ -48,6 +48,7 @@ CONVENTIONAL = {
     "Converged": ["Converged.R", "Converged.G", "Converged.B"],
     "HistoryLength": ["HistoryLength.Y"],
     "DenoisedAlpha": ["DenoisedAlpha.Y"],
+    "SampleRatio": ["SampleRatio.Y"],
 }
 
 

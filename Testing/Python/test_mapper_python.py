@@ -26,9 +26,9 @@ def test_passes_are_numpy_arrays() -> None:
     window.Render()
     names = [mapper.GetPassName(i) for i in range(mapper.GetNumberOfPasses())]
     assert names[:3] == ["Radiance", "Alpha", "Albedo"]
-    assert names[-6:] == ["Denoised", "Guides", "BlendWeights", "Converged", "HistoryLength",
-                          "DenoisedAlpha"]
-    for name in names[:-6] + ["HistoryLength"]:
+    assert names[-7:] == ["Denoised", "Guides", "BlendWeights", "Converged", "HistoryLength",
+                          "DenoisedAlpha", "SampleRatio"]
+    for name in names[:-7] + ["HistoryLength", "SampleRatio"]:
         values = get_pass(mapper, name)
         assert values.dtype == np.float32
         assert values.shape in ((W * H,), (W * H, 3)), name
