@@ -443,7 +443,8 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
     std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
-    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "" };
+    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "",
+    request.KeepEdgeMeans ? "means" : "" };
   if (this->DenoisedValid && key == this->DenoiseKey)
   {
     return true; // nothing new to denoise
@@ -458,10 +459,10 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
     passes[p] = acc.Data(p);
   }
   passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
-  // The edge pixels lean towards their own means (SampleRatio) until the Converged pass
-  // weighs every pixel's mean against the denoised value by their estimated errors (which
-  // assume the two independent).
-  if (this->AccumulatedFrames < Convergence::kMinimumBlendFrames)
+  // With KeepEdgeMeans the edge pixels lean towards their own means (SampleRatio) until the
+  // Converged pass weighs every pixel's mean against the denoised value by their estimated
+  // errors (which assume the two independent).
+  if (request.KeepEdgeMeans && this->AccumulatedFrames < Convergence::kMinimumBlendFrames)
   {
     passes[PassSampleRatio] = acc.Data(PassSampleRatio);
   }

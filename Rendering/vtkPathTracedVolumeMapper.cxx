@@ -193,6 +193,7 @@ vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
   this->ComputeFootprint = scene.FootprintRays;
   this->EdgeSamples = defaults.EdgeSamples;
   this->ComputeEdgeSamples = defaults.ComputeEdgeSamples;
+  this->KeepEdgeMeans = defaults.KeepEdgeMeans;
   this->AmbientOcclusion = scene.AmbientOcclusion;
   this->AmbientOcclusionReach = scene.AmbientOcclusionReach;
   this->UseRendererLight = scene.UseRendererLight;
@@ -455,6 +456,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoise = this->Denoise;
     request.EdgeSamples = this->EdgeSamples;
     request.ComputeEdgeSamples = this->ComputeEdgeSamples;
+    request.KeepEdgeMeans = this->KeepEdgeMeans;
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
     request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
     request.Denoiser.Footprint = this->DenoiserFootprint;
@@ -545,6 +547,7 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ComputeFootprint: " << this->ComputeFootprint << "\n";
   os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
   os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";
+  os << indent << "KeepEdgeMeans: " << this->KeepEdgeMeans << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";

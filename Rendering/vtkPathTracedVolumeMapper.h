@@ -38,8 +38,8 @@
  * frame's Alpha is 0 or 1 per pixel, which would show the background through every pixel whose
  * ray met no event however much colour the denoiser gave it. "SampleRatio" is how many times a
  * plain pixel's samples each pixel's mean holds in the last frame: EdgeSamples on its edge
- * pixels, 1 elsewhere; below 8 accumulated frames the denoiser leans those pixels towards their
- * own means by it (vtkPTVDenoiser, "SampleRatio").
+ * pixels, 1 elsewhere; with KeepEdgeMeans the denoiser leans those pixels towards their own
+ * means by it (vtkPTVDenoiser, "SampleRatio").
  */
 #ifndef vtkPathTracedVolumeMapper_h
 #define vtkPathTracedVolumeMapper_h
@@ -253,10 +253,8 @@ public:
    * trace time (stent 0.3-0.7 dB for 27-40 %), the third another 0.1-0.4 dB for 2-6 % (stent
    * 0.1-0.2 dB for 13-18 %), as much as 4 give (docs/edge-samples.md). When the camera moves
    * (TemporalReprojection), edge pixels start again from the new frame: their history lags
-   * behind the silhouette. The denoiser leans them towards their own means (the SampleRatio
-   * pass): on the stent's thin vessels the grid's average with their one-sample neighbours
-   * loses more than their extra samples' noise. Edge samples are traced on the CPU, also when
-   * the CUDA backend traced the frame; with several processes holding the whole volume by process 0 for all of
+   * behind the silhouette. Edge samples are traced on the CPU, also when the CUDA backend
+   * traced the frame; with several processes holding the whole volume by process 0 for all of
    * them; for a DistributedVolume split across processes by every process through its piece,
    * composited sample by sample like the frame's own samples.
    */
@@ -265,6 +263,25 @@ public:
   vtkSetMacro(ComputeEdgeSamples, bool);
   vtkGetMacro(ComputeEdgeSamples, bool);
   vtkBooleanMacro(ComputeEdgeSamples, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Keep part of each edge pixel's own mean in the denoised image (default off): the denoiser
+   * gets the SampleRatio pass (EdgeSamples on the last frame's edge pixels, 1 elsewhere) and
+   * gives a pixel of ratio r the weight (r - 1) / (r - 1 + 4) of its own mean (vtkPTVDenoiser,
+   * "SampleRatio"), while fewer than 8 frames have accumulated (then the Converged pass weighs
+   * every pixel's mean against the denoised value). The grid averages an edge pixel with its
+   * one-sample neighbours; on vessels narrower than a pixel (angiography) that loses more than
+   * the extra samples' noise, and this step gains: the stent +0.66 dB at 256² with 3 edge
+   * samples, +0.33 at 512². Where the edges are most of what is lit (thin shells: narrow
+   * transfer-function bands) the neighbours are edge pixels too, the denoised value is worth
+   * more than 4 samples, and the step loses (-1.10 dB on held-out narrow bands): hence off by
+   * default (docs/edge-samples.md).
+   */
+  vtkSetMacro(KeepEdgeMeans, bool);
+  vtkGetMacro(KeepEdgeMeans, bool);
+  vtkBooleanMacro(KeepEdgeMeans, bool);
   ///@}
 
   /// Fraction of the pixels that got EdgeSamples in the last traced frame (0: none).
@@ -580,6 +597,7 @@ protected:
   bool ComputeFootprint;
   int EdgeSamples;
   bool ComputeEdgeSamples;
+  bool KeepEdgeMeans;
   bool AmbientOcclusion;
   double AmbientOcclusionReach;
   bool UseRendererLight;

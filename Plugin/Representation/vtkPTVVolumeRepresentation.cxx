@@ -430,6 +430,12 @@ void vtkPTVVolumeRepresentation::SetEdgeSamples(int value)
 }
 
 //------------------------------------------------------------------------------
+void vtkPTVVolumeRepresentation::SetKeepEdgeMeans(bool value)
+{
+  this->GetPathTracedMapper()->SetKeepEdgeMeans(value);
+}
+
+//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
 {
   this->GetPathTracedMapper()->SetDenoiserNumberOfLevels(value);

@@ -81,6 +81,7 @@ public:
   void SetDenoiserUseNetwork(bool value);
   void SetDenoiserFootprint(bool value);
   void SetEdgeSamples(int value);
+  void SetKeepEdgeMeans(bool value);
   void SetDenoiserNumberOfLevels(int value);
   ///@}
 

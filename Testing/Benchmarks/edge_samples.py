@@ -67,7 +67,7 @@ def main() -> int:
     from ptv_training.evaluate import cpp_denoise
     from ptv_training.scene import Scene
 
-    names = list(exr_io.INPUT_PASSES) + ["Footprint", "SampleRatio"]
+    names = list(exr_io.INPUT_PASSES) + ["Footprint"]
     rows: List[Dict[str, Any]] = []
     identical = True
     for size in a.sizes:

@@ -51,6 +51,7 @@ def main() -> int:
     from ptv_training import compare, exr_io
     from ptv_training.evaluate import cpp_denoise
     from ptv_training.scene import Scene
+    from edge_samples import frame  # the frame the mapper denoises, with its edge samples
 
     names = list(exr_io.INPUT_PASSES) + ["Footprint"]
     rows: List[Dict[str, Any]] = []
@@ -63,11 +64,7 @@ def main() -> int:
                 view = {"dataset": ds, "transfer_function": paper_preset(ds),
                         "azimuth": azimuth, "elevation": elevation}
                 for count in a.counts:
-                    mapper = scene.set_view(view, seed=compare.PAPER_SEEDS[0], max_frames=1,
-                                            footprint=True)
-                    mapper.SetEdgeSamples(count)
-                    mapper.SetComputeEdgeSamples(count > 1)
-                    scene.render(1)
+                    frame(scene, view, compare.PAPER_SEEDS[0], count)
                     passes = {n: scene.get_pass(n) for n in names}
                     ratio = scene.get_pass("SampleRatio")
                     plain = cpp_denoise(a.model, passes, sorted(passes), threads=2)["output"]

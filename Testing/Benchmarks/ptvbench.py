@@ -25,7 +25,7 @@ from pathtracedvolume.metrics import quality, tonemap  # noqa: E402,F401 (the pr
 
 PASSES = ["Radiance", "Alpha", "Albedo", "Depth", "Position", "Normal",
           "ScatterDepth", "ScatterPosition", "ScatterNormal", "Coverage",
-          "Footprint", "SampleRatio"]
+          "Footprint"]
 BACKGROUND = scene.BACKGROUND
 STAGES = ("features", "guidenet", "splat", "slice", "alpha")
 SHIPPED_MODEL = ROOT / "Data" / "Models" / "guidenet.onnx"

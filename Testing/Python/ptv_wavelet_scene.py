@@ -83,14 +83,14 @@ MINIMUM_BLEND_FRAMES = 8  # ptv::Convergence::kMinimumBlendFrames
 
 def set_traced_passes(mapper: Any, denoiser: Any) -> list:
     """Give ``denoiser`` (a vtkPTVDenoiser) the mapper's traced passes by name, as the mapper's
-    own denoise sees them (with its SampleRatio pass below 8 accumulated frames, where the
-    edge pixels lean towards their own means); returns the images (keep them while the
-    denoiser runs)."""
+    own denoise sees them (with its SampleRatio pass when KeepEdgeMeans is on and fewer than 8
+    frames have accumulated: the edge pixels lean towards their own means); returns the images
+    (keep them while the denoiser runs)."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     images = []
     names = [mapper.GetPassName(i) for i in range(TRACED_PASSES)]
-    if mapper.GetAccumulatedFrames() < MINIMUM_BLEND_FRAMES:
+    if mapper.GetKeepEdgeMeans() and mapper.GetAccumulatedFrames() < MINIMUM_BLEND_FRAMES:
         names.append("SampleRatio")
     for name in names:
         image = vtkImageData()
