@@ -370,10 +370,11 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->LastViewFrames = this->AccumulatedFrames;
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
-  // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples: the denoiser
-  // leans their result towards their own mean (ptvDenoiser.h, SampleRatio).
+  // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples (the
+  // SampleRatio pass; with KeepEdgeMeans the denoiser leans them towards their own means).
   float* ratio = this->Accumulated.Data(PassSampleRatio);
-  std::fill(ratio, ratio + static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 1.f);
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  std::fill(ratio, ratio + pixels, 1.f);
   for (const std::uint32_t pixel : this->EdgePixels)
   {
     ratio[pixel] = static_cast<float>(this->EdgeSampleCount);
