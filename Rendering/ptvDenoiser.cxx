@@ -512,10 +512,9 @@ void Denoiser::LeanTowardsOwnMeans(int threads, int width, int height, const flo
         {
           color[3 * i + c] += w * (own[c] - color[3 * i + c]);
         }
-        if (alpha && alphaIn)
+        if (alpha && alphaIn && alphaIn[i] == alphaIn[i]) // a NaN opacity keeps the denoised one
         {
-          const float a = std::min(1.f, std::max(0.f, alphaIn[i])); // NaN -> 0
-          alpha[i] += w * ((alphaIn[i] == alphaIn[i] ? a : alpha[i]) - alpha[i]);
+          alpha[i] += w * (std::min(1.f, std::max(0.f, alphaIn[i])) - alpha[i]);
         }
       }
     });

@@ -324,7 +324,7 @@ void MergeEdgeSamples(PassBuffers& list, int samples, int edgeSamples,
   {
     return;
   }
-  const std::size_t extra = size / (edges.size() * static_cast<std::size_t>(samples));
+  const std::size_t extra = static_cast<std::size_t>(std::min(edgeSamples, kMaxEdgeSamples) - 1);
   const float total = static_cast<float>(samples) * static_cast<float>(extra + 1);
   const TracedPassPlanes from = list.Planes();
   const TracedPassPlanes to = frame.Planes();

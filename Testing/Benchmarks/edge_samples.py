@@ -85,8 +85,7 @@ def main() -> int:
                     if count == 1:
                         base = passes
                         if not all(np.array_equal(passes[n].reshape(cached["inputs"][n].shape),
-                                                  cached["inputs"][n])
-                                   for n in names if n in cached["inputs"]):
+                                                  cached["inputs"][n]) for n in names):
                             raise RuntimeError(f"{ds} {size} {cam}: the cached view is not "
                                                "this tracer's: delete it from --cache")
                     elif base:
