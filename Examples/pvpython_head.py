@@ -7,11 +7,14 @@ streaming passes refine further only if it stopped short of both), saves a scree
 writes every render pass to one EXR with the representation's Write Passes command, and reads the
 passes back as numpy arrays.
 
-    pvpython --force-offscreen-rendering Examples/pvpython_head.py --size 256 --frames 32
+    xvfb-run -a pvpython --force-offscreen-rendering Examples/pvpython_head.py --size 256
 
 Also runs with pvbatch. Needs the built plugin (found in ``build/`` or given with --plugin or
-$PTV_PLUGIN), the head CT (``scripts/fetch_datasets.py head``) and, headless, a display
-(``xvfb-run -a -s "-screen 0 1024x768x24 -noreset"``).
+$PTV_PLUGIN), the head CT (``scripts/fetch_datasets.py head``) and an X display: Debian's ParaView
+has no EGL or OSMesa context, so even ``--force-offscreen-rendering`` renders on an X server.
+``xvfb-run -a`` gives one (drop it where $DISPLAY is set); without any, ParaView crashes in its
+first render (after a warning that representations "require remote rendering"), so the script
+stops before that with exit status 2 and this advice.
 """
 from __future__ import annotations
 
@@ -152,8 +155,25 @@ def check_outputs(args: argparse.Namespace, arrays: Dict[str, np.ndarray]) -> bo
     return ok
 
 
+def require_display() -> None:
+    """Exit with status 2 and the command to run instead where ParaView cannot render."""
+    from paraview.modules.vtkRemotingCore import vtkProcessModule, vtkRemotingCoreConfiguration
+    from paraview.modules.vtkRemotingViews import vtkPVRenderingCapabilitiesInformation as caps
+    from pathtracedvolume import headless
+
+    if vtkProcessModule.GetProcessType() == vtkProcessModule.PROCESS_BATCH:
+        interpreter = ["pvbatch"]
+    else:
+        interpreter = ["pvpython"]
+        if vtkRemotingCoreConfiguration.GetInstance().GetForceOffscreenRendering():
+            interpreter.append("--force-offscreen-rendering")
+    egl_or_osmesa = bool(caps.GetLocalCapabilities() & caps.HEADLESS_RENDERING)
+    headless.require_display([*interpreter, *sys.argv], headless=egl_or_osmesa)
+
+
 def main() -> int:
     args = parse_args()
+    require_display()  # before the first view: without X, ParaView 5.11 crashes in it
     arrays = run(args)
     return 0 if not args.check or check_outputs(args, arrays) else 1
 

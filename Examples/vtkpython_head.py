@@ -5,11 +5,12 @@ vtkXMLImageDataReader -> vtkPathTracedVolumeMapper (head two-band preset) -> off
 of N accumulated 1-spp frames -> the render passes as numpy arrays (vtk_to_numpy) -> the window
 as PNG and every pass in one multi-channel EXR (vtkPTVEXRPassWriter).
 
-    PYTHONPATH=build/python .venv/bin/python Examples/vtkpython_head.py --size 256 --frames 32
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Examples/vtkpython_head.py --size 256
 
 Needs the built package (``build/python`` on PYTHONPATH; found automatically in a build tree
-named ``build``) and the head CT (``scripts/fetch_datasets.py head``). Without a display, run it
-under ``xvfb-run -a -s "-screen 0 1024x768x24 -noreset"``.
+named ``build``), the head CT (``scripts/fetch_datasets.py head``) and an X display: Debian's VTK
+renders offscreen on an X server too. ``xvfb-run -a`` gives one (drop it where $DISPLAY is set);
+without any, the script stops with exit status 2 and that advice rather than abort in X.
 """
 from __future__ import annotations
 
@@ -34,6 +35,7 @@ def _import_package() -> None:
 _import_package()
 
 from pathtracedvolume import datasets, presets  # noqa: E402
+from pathtracedvolume.headless import headless_window, require_display  # noqa: E402
 from pathtracedvolume.vtkPTVFilters import vtkPTVEXRPassWriter  # noqa: E402
 from pathtracedvolume.vtkPTVRendering import vtkPathTracedVolumeMapper  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
@@ -166,6 +168,9 @@ def check_outputs(args: argparse.Namespace, arrays: Dict[str, np.ndarray]) -> bo
 
 def main() -> int:
     args = parse_args()
+    # Before any window opens (creating one opens nothing): without X, stop with exit status 2.
+    require_display([sys.executable, *sys.argv],
+                    headless=headless_window(vtkRenderWindow().GetClassName()))
     arrays = render(args)
     return 0 if not args.check or check_outputs(args, arrays) else 1
 
