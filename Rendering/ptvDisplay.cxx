@@ -1,6 +1,7 @@
 #include "ptvDisplay.h"
 
 #include "vtkOpenGLError.h" // GL enums (glew in VTK <= 9.3, glad later)
+#include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -22,17 +23,25 @@ struct Display::Internals
   vtkSmartPointer<vtkTextureObject> Color;
   vtkSmartPointer<vtkTextureObject> Depth;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+  /// Single-sample copy of a multisampled window's depth (ReadDepth).
+  vtkSmartPointer<vtkOpenGLFramebufferObject> Resolve;
 };
 
 namespace
 {
 const char* kDecl = "uniform sampler2D ptvColor;\n"
-                    "uniform sampler2D ptvDepth;\n";
+                    "uniform sampler2D ptvDepth;\n"
+                    "uniform float ptvLeast;\n";
 const char* kImpl = "  vec4 c = texture(ptvColor, texCoord);\n"
                     "  float z = texture(ptvDepth, texCoord).r;\n"
-                    "  if (c.a <= 0.0) { discard; }\n"
+                    "  if (c.a <= ptvLeast) { discard; }\n"
                     "  gl_FragDepth = z;\n"
                     "  gl_FragData[0] = c;\n";
+
+/// Opacity a pixel needs for its depth to be written: later geometry, picking and other volumes
+/// (whose rays stop at the depth buffer) see the volume only where it mostly hides what is
+/// behind; a translucent volume drawn first would otherwise cut the rays of one behind it.
+constexpr float kDepthOpacity = 0.5f;
 
 void Upload(vtkSmartPointer<vtkTextureObject>& tex, vtkOpenGLRenderWindow* win, int w, int h,
   int comps, const float* data)
@@ -134,6 +143,14 @@ void Display::Draw(vtkRenderer* ren, int width, int height, const float* rgba, c
   this->Impl->Depth->Activate();
   program->SetUniformi("ptvColor", this->Impl->Color->GetTextureUnit());
   program->SetUniformi("ptvDepth", this->Impl->Depth->GetTextureUnit());
+  // Colour: every drawn pixel, no depth; then depth alone where the volume is mostly opaque.
+  state->vtkglDepthMask(GL_FALSE);
+  program->SetUniformf("ptvLeast", 0.0f);
+  this->Impl->Quad->Render();
+  vtkOpenGLState::ScopedglColorMask colorMaskSaver(state);
+  state->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  state->vtkglDepthMask(GL_TRUE);
+  program->SetUniformf("ptvLeast", kDepthOpacity);
   this->Impl->Quad->Render();
   this->Impl->Depth->Deactivate();
   this->Impl->Color->Deactivate();
@@ -150,15 +167,41 @@ bool Display::ReadDepth(vtkRenderer* ren, int x0, int y0, int width, int height,
   vtkOpenGLState* state = win->GetState();
   unsigned int drawBinding = 0, drawBuffer = 0;
   state->GetCurrentDrawFramebufferState(drawBinding, drawBuffer);
-  state->PushReadFramebufferBinding();
+  state->PushFramebufferBindings();
   state->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, drawBinding);
   while (glGetError() != GL_NO_ERROR)
   {
   }
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  vtkOpenGLFramebufferObject* source = win->GetRenderFramebuffer();
+  if (samples > 0 && source && source->GetFBOIndex() == drawBinding)
+  {
+    // A multisampled framebuffer (a default vtkRenderWindow asks for 8 samples) cannot be read:
+    // resolve its depth into a single-sample framebuffer of the same size and format first.
+    const int* size = source->GetLastSize();
+    if (!this->Impl->Resolve)
+    {
+      this->Impl->Resolve = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    }
+    vtkOpenGLFramebufferObject* resolve = this->Impl->Resolve;
+    resolve->SetContext(win);
+    const int* have = resolve->GetLastSize();
+    if (have[0] != size[0] || have[1] != size[1] || resolve->GetFBOIndex() == 0)
+    {
+      resolve->PopulateFramebuffer(size[0], size[1], true, 1, VTK_UNSIGNED_CHAR, true, 32, 0,
+        win->GetStencilCapable() != 0);
+    }
+    state->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, drawBinding);
+    state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve->GetFBOIndex());
+    glBlitFramebuffer(x0, y0, x0 + width, y0 + height, x0, y0, x0 + width, y0 + height,
+      GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    state->vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, resolve->GetFBOIndex());
+  }
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(x0, y0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
-  const bool ok = glGetError() == GL_NO_ERROR; // e.g. a multisampled framebuffer cannot be read
-  state->PopReadFramebufferBinding();
+  const bool ok = glGetError() == GL_NO_ERROR;
+  state->PopFramebufferBindings();
   return ok;
 }
 
@@ -177,6 +220,11 @@ void Display::ReleaseGraphicsResources(vtkWindow* window)
   if (this->Impl->Depth)
   {
     this->Impl->Depth->ReleaseGraphicsResources(window);
+  }
+  if (this->Impl->Resolve)
+  {
+    this->Impl->Resolve->ReleaseGraphicsResources(window);
+    this->Impl->Resolve = nullptr;
   }
 }
 }

@@ -158,7 +158,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   if (ok && !empty)
   {
     this->ZBuffer.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-    if (!Display::ReadDepth(ren, x0, y0, width, height, this->ZBuffer.data()))
+    if (!this->Drawing.ReadDepth(ren, x0, y0, width, height, this->ZBuffer.data()))
     {
       this->ZBuffer.clear(); // no opaque-geometry clipping this frame
     }
