@@ -604,27 +604,27 @@ int FrameLoop::ShownPass(const FrameRequest& request, FrameMessages& messages)
                                                            : PassDenoised;
   if (request.DisplayPass.empty())
   {
+    this->DisplayProblem.clear();
     return radiance;
   }
   std::string problem;
   int shown = FindPass(request.DisplayPass.c_str());
   if (shown < 0)
   {
-    problem = "unknown DisplayPass '" + request.DisplayPass + "'; showing Radiance";
+    problem = "unknown DisplayPass '" + request.DisplayPass +
+      "'; showing the default image (see GetPassName for the names)";
   }
   else if (IsDenoiserPass(shown) && !this->DenoisedValid)
   {
-    problem = "DisplayPass '" + request.DisplayPass + "' needs Denoise on";
+    problem = "DisplayPass '" + request.DisplayPass + "' needs Denoise on; showing Radiance";
   }
-  if (problem.empty())
-  {
-    return shown;
-  }
-  if (this->ReportOnce(problem))
+  // Its own memory, not ReportOnce's: a frame whose inputs are fine clears that one.
+  if (problem != this->DisplayProblem && !problem.empty())
   {
     messages.emplace_back(true, problem);
   }
-  return PassRadiance;
+  this->DisplayProblem = problem;
+  return problem.empty() ? shown : radiance; // what an empty DisplayPass shows
 }
 
 //------------------------------------------------------------------------------

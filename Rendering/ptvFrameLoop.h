@@ -83,6 +83,8 @@ struct FrameRequest
   int MaximumStillFrames = 256;
   double StillTimeBudget = 0.0;
   std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
+  /// Asked between a still render's frames: true stops it (the render window's abort check).
+  std::function<bool()> Abort;
   /// Processes that trace each frame together, each with the whole volume (ptvRanks.h);
   /// nullptr: this process alone.
   vtkMultiProcessController* Controller = nullptr;
@@ -202,6 +204,7 @@ private:
   bool DenoisedValid = false;          ///< Denoised/Guides/BlendWeights match the passes
   std::vector<std::string> DenoiseKey; ///< settings of the last denoise
   std::string LastError;
+  std::string DisplayProblem; ///< the last DisplayPass problem reported (ShownPass)
   std::string BackendProblem; ///< the last backend problem reported
   vtkIdType LastNonFinite = 0;
 };

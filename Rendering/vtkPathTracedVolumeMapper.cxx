@@ -18,6 +18,8 @@
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -292,7 +294,7 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
   }
   if (this->AccumulatedFrames == 0)
   {
-    vtkErrorMacro(<< "Pass '" << name << "' is not available before the first render.");
+    vtkErrorMacro(<< "Pass '" << name << "' is not available: " << this->NoFrameReason());
     return false;
   }
   if (ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid())
@@ -318,6 +320,14 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
 }
 
 //------------------------------------------------------------------------------
+const char* vtkPathTracedVolumeMapper::NoFrameReason() const
+{
+  return this->RenderFailed
+    ? "the last render traced no frame (see the error it reported)."
+    : "nothing has been rendered yet.";
+}
+
+//------------------------------------------------------------------------------
 bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
 {
   if (!output)
@@ -327,7 +337,7 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   }
   if (this->AccumulatedFrames == 0)
   {
-    vtkErrorMacro(<< "Passes are not available before the first render.");
+    vtkErrorMacro(<< "Passes are not available: " << this->NoFrameReason());
     return false;
   }
   const ptv::PassBuffers& acc = this->Internals->Loop.GetPasses();
@@ -480,11 +490,17 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       this->SetProgressText(text.str().c_str());
       this->UpdateProgress(fraction);
     };
+    request.Abort = [ren]()
+    {
+      vtkRenderWindow* window = ren->GetRenderWindow();
+      return window && window->CheckAbortStatus() != 0;
+    };
     GatherClipping(this, scene, this->Internals->ClipProblems);
     GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
 
     ptv::FrameMessages messages;
     loop.Render(ren, vol, image, scalars, cellFlag != 0, request, messages);
+    this->RenderFailed = loop.GetAccumulatedFrames() == 0;
     for (const auto& message : messages)
     {
       if (message.first)

@@ -65,7 +65,7 @@ public:
   /**
    * Samples traced per pixel in each rendered frame. Default 1, range [1, 4096].
    */
-  vtkSetClampMacro(SamplesPerFrame, int, 1, 4096);
+  virtual void SetSamplesPerFrame(int value); ///< clamped to [1, 4096] with a warning
   vtkGetMacro(SamplesPerFrame, int);
   ///@}
 
@@ -74,7 +74,7 @@ public:
    * Most frames averaged while the view stays unchanged; once reached, further renders redraw
    * the converged image without tracing. Default 1024, range [1, 1000000].
    */
-  vtkSetClampMacro(MaximumAccumulatedFrames, int, 1, 1000000);
+  virtual void SetMaximumAccumulatedFrames(int value); ///< clamped to [1, 1000000] with a warning
   vtkGetMacro(MaximumAccumulatedFrames, int);
   ///@}
 
@@ -100,7 +100,7 @@ public:
   vtkSetMacro(TemporalReprojection, bool);
   vtkGetMacro(TemporalReprojection, bool);
   vtkBooleanMacro(TemporalReprojection, bool);
-  vtkSetClampMacro(MaximumHistory, int, 1, 1000000);
+  virtual void SetMaximumHistory(int value); ///< clamped to [1, 1000000] with a warning
   vtkGetMacro(MaximumHistory, int);
   ///@}
 
@@ -132,7 +132,7 @@ public:
    * Target of a still render: the estimated PSNR in dB of the shown image against the converged
    * one, after the tone map x^(1/2.2) (docs/measuring.md). Default 40, range [10, 100].
    */
-  vtkSetClampMacro(StillQuality, double, 10.0, 100.0);
+  virtual void SetStillQuality(double value); ///< clamped to [10.0, 100.0] with a warning
   vtkGetMacro(StillQuality, double);
   ///@}
 
@@ -140,7 +140,7 @@ public:
   /**
    * Most frames a still render accumulates. Default 256, range [1, 1000000].
    */
-  vtkSetClampMacro(MaximumStillFrames, int, 1, 1000000);
+  virtual void SetMaximumStillFrames(int value); ///< clamped to [1, 1000000] with a warning
   vtkGetMacro(MaximumStillFrames, int);
   ///@}
 
@@ -149,7 +149,7 @@ public:
    * Seconds after which a still render stops tracing even if StillQuality is not reached
    * (0 = no limit). Default 0, range [0, 1e6].
    */
-  vtkSetClampMacro(StillTimeBudget, double, 0.0, 1e6);
+  virtual void SetStillTimeBudget(double value); ///< clamped to [0.0, 1e6] with a warning
   vtkGetMacro(StillTimeBudget, double);
   ///@}
 
@@ -258,7 +258,7 @@ public:
    * them; for a DistributedVolume split across processes by every process through its piece,
    * composited sample by sample like the frame's own samples.
    */
-  vtkSetClampMacro(EdgeSamples, int, 1, 64);
+  virtual void SetEdgeSamples(int value); ///< clamped to [1, 64] with a warning
   vtkGetMacro(EdgeSamples, int);
   vtkSetMacro(ComputeEdgeSamples, bool);
   vtkGetMacro(ComputeEdgeSamples, bool);
@@ -304,7 +304,7 @@ public:
    * GlobalIlluminationReach for its shadows). 1 (default) traces them to the volume's exit;
    * 0 leaves the environment unoccluded. Cheaper below 1: environment rays stop early.
    */
-  vtkSetClampMacro(AmbientOcclusionReach, double, 0.0, 1.0);
+  virtual void SetAmbientOcclusionReach(double value); ///< clamped to [0.0, 1.0] with a warning
   vtkGetMacro(AmbientOcclusionReach, double);
   ///@}
 
@@ -323,7 +323,7 @@ public:
   /**
    * Key-light intensity multiplier. Default 1, range [0, 1e6].
    */
-  vtkSetClampMacro(LightIntensity, double, 0.0, 1e6);
+  virtual void SetLightIntensity(double value); ///< clamped to [0.0, 1e6] with a warning
   vtkGetMacro(LightIntensity, double);
   ///@}
 
@@ -338,7 +338,7 @@ public:
   vtkSetMacro(UseBackgroundAsEnvironment, bool);
   vtkGetMacro(UseBackgroundAsEnvironment, bool);
   vtkBooleanMacro(UseBackgroundAsEnvironment, bool);
-  vtkSetClampMacro(EnvironmentIntensity, double, 0.0, 1e6);
+  virtual void SetEnvironmentIntensity(double value); ///< clamped to [0.0, 1e6] with a warning
   vtkGetMacro(EnvironmentIntensity, double);
   ///@}
 
@@ -399,7 +399,7 @@ public:
    * too coarse for a small image
    * (vtkPTVDenoiser::SetNumberOfLevels); 1..3 = the finest, up to the model's.
    */
-  vtkSetClampMacro(DenoiserNumberOfLevels, int, 0, 3);
+  virtual void SetDenoiserNumberOfLevels(int value); ///< clamped to [0, 3] with a warning
   vtkGetMacro(DenoiserNumberOfLevels, int);
   ///@}
 
@@ -417,7 +417,7 @@ public:
    * threads of the plugin's own (VTK 9.2's SMP backends are either sequential or start new
    * threads for every loop); the application's vtkSMPTools backend is left alone.
    */
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  virtual void SetNumberOfThreads(int value); ///< clamped to [0, 1024] with a warning
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 
@@ -524,7 +524,7 @@ public:
     BACKEND_CPU = 1,
     BACKEND_CUDA = 2
   };
-  vtkSetClampMacro(Backend, int, BACKEND_AUTO, BACKEND_CUDA);
+  virtual void SetBackend(int value); ///< clamped to [BACKEND_AUTO, BACKEND_CUDA] with a warning
   vtkGetMacro(Backend, int);
   void SetBackendToAuto() { this->SetBackend(BACKEND_AUTO); }
   void SetBackendToCPU() { this->SetBackend(BACKEND_CPU); }
@@ -624,6 +624,8 @@ protected:
   bool StillConverged = false;
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
+  bool RenderFailed = false; ///< the last Render traced no frame (GetPass says so)
+  const char* NoFrameReason() const;
   double LastDenoiseTime = 0.0;
   double ReprojectionReuse = 0.0;
   double LastReprojectionTime = 0.0;
