@@ -75,53 +75,108 @@ constexpr int kGradientTableSize = 1024;
 // 5-8% less trace time on the three datasets; the per-brick ranges cost 8 bytes per 64 voxels.
 constexpr int kBrickSize = 4;
 
-// Copy one component of any numeric array to float (out[stride * i], times scale), turning
-// non-finite values into NaN ("no data") and tracking the finite range.
+// One component of any numeric array: its finite range in the array's own precision, then its
+// values as float (out[stride * i] = (v - shift) * scale), non-finite ones as NaN ("no data").
 struct ChannelToFloat
 {
   template <typename ArrayT>
-  void operator()(ArrayT* array, int component, float scale, float* out, int stride,
-    double range[2], vtkIdType& nonFinite)
+  void Range(ArrayT* array, int component, double range[2], vtkIdType& nonFinite)
   {
     const auto tuples = vtk::DataArrayTupleRange(array);
-    const vtkIdType n = static_cast<vtkIdType>(tuples.size());
-    vtkSMPTools::For(0, n,
-      [&](vtkIdType b, vtkIdType e)
-      {
-        for (vtkIdType i = b; i < e; ++i)
-        {
-          out[stride * i] = static_cast<float>(tuples[i][component]) * scale;
-        }
-      });
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     vtkIdType bad = 0;
-    for (vtkIdType i = 0; i < n; ++i)
+    for (const auto tuple : tuples)
     {
-      const float v = out[stride * i];
+      const double v = static_cast<double>(tuple[component]);
       if (!std::isfinite(v))
       {
-        out[stride * i] = std::numeric_limits<float>::quiet_NaN();
         ++bad;
         continue;
       }
-      lo = std::min(lo, static_cast<double>(v));
-      hi = std::max(hi, static_cast<double>(v));
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
     }
     range[0] = lo;
     range[1] = hi;
     nonFinite = bad;
   }
+
+  template <typename ArrayT>
+  void operator()(ArrayT* array, int component, double shift, double scale, float* out,
+    int stride)
+  {
+    const auto tuples = vtk::DataArrayTupleRange(array);
+    const vtkIdType n = static_cast<vtkIdType>(tuples.size());
+    const bool plain = shift == 0.0 && scale == 1.0;
+    vtkSMPTools::For(0, n,
+      [&](vtkIdType b, vtkIdType e)
+      {
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          const double v = static_cast<double>(tuples[i][component]);
+          const float f = plain ? static_cast<float>(tuples[i][component])
+                                : static_cast<float>((v - shift) * scale);
+          out[stride * i] =
+            std::isfinite(v) && std::isfinite(f) ? f : std::numeric_limits<float>::quiet_NaN();
+        }
+      });
+  }
 };
 
-// Channel @a component of @a array into out (see ChannelToFloat), any array type.
-void CopyChannel(vtkDataArray* array, int component, float scale, float* out, int stride,
-  double range[2], vtkIdType& nonFinite)
+struct ChannelRange
 {
-  ChannelToFloat worker;
-  if (!vtkArrayDispatch::Dispatch::Execute(
-        array, worker, component, scale, out, stride, range, nonFinite))
+  template <typename ArrayT>
+  void operator()(ArrayT* array, int component, double range[2], vtkIdType& nonFinite)
   {
-    worker(array, component, scale, out, stride, range, nonFinite); // generic vtkDataArray path
+    ChannelToFloat().Range(array, component, range, nonFinite);
+  }
+};
+
+// How a channel of finite range @a range is stored as float, (v - shift) * scale: as it is
+// (0, 1) while float holds it to well below the table's resolution; else shifted to start at 0
+// (an offset such as 1e10 + [0, 100] would otherwise round to a few values, or overflow), and
+// scaled to [0, 1] when its span itself is outside float's comfortable range.
+void StoredAs(const double range[2], double& shift, double& scale)
+{
+  shift = 0.0;
+  scale = 1.0;
+  if (!(range[1] >= range[0]))
+  {
+    return; // no finite value
+  }
+  const double span = range[1] - range[0];
+  const double magnitude = std::max(std::abs(range[0]), std::abs(range[1]));
+  const bool tinyOrHuge = span > 0.0 && (span < 1e-30 || span > 1e30);
+  if (magnitude > 1e30 || magnitude > 1000.0 * span || tinyOrHuge)
+  {
+    shift = range[0];
+  }
+  if (tinyOrHuge)
+  {
+    scale = 1.0 / span;
+  }
+}
+
+// Channel @a component of @a array into out (see ChannelToFloat), any array type: its finite
+// range in @a range, how it is stored in @a shift and @a scale.
+void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
+  double range[2], vtkIdType& nonFinite, double& shift, double& scale)
+{
+  ChannelRange ranger;
+  if (!vtkArrayDispatch::Dispatch::Execute(array, ranger, component, range, nonFinite))
+  {
+    ranger(array, component, range, nonFinite); // generic vtkDataArray path
+  }
+  StoredAs(range, shift, scale);
+  if (factor != 1.0f)
+  {
+    shift = 0.0; // RGB colour (factor 1/255): stored as it is, then scaled
+    scale = factor;
+  }
+  ChannelToFloat worker;
+  if (!vtkArrayDispatch::Dispatch::Execute(array, worker, component, shift, scale, out, stride))
+  {
+    worker(array, component, shift, scale, out, stride);
   }
 }
 
@@ -238,7 +293,8 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   // The opacity channel (the last component) drives opacity, gradients and the occupancy.
   this->Scalars.resize(static_cast<std::size_t>(n));
   double range[2];
-  CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite);
+  CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite, this->Shift,
+    this->Scale);
   if (nonFinite == n)
   {
     error = "every voxel is NaN or infinite: nothing to render";
@@ -254,7 +310,8 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   if (comps == 2)
   {
     this->ColorScalars.resize(static_cast<std::size_t>(n));
-    CopyChannel(scalars, 0, 1.0f, this->ColorScalars.data(), 1, this->ColorRange, ignored);
+    CopyChannel(scalars, 0, 1.0f, this->ColorScalars.data(), 1, this->ColorRange, ignored,
+      this->ColorShift, this->ColorScale);
     if (!std::isfinite(this->ColorRange[0]))
     {
       this->ColorRange[0] = 0.0;
@@ -266,10 +323,10 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   {
     this->Colors.resize(3 * static_cast<std::size_t>(n));
     const float scale = scalars->GetDataType() == VTK_UNSIGNED_CHAR ? 1.0f / 255.0f : 1.0f;
-    double unused[2];
+    double unused[2], shift, factor;
     for (int c = 0; c < 3; ++c)
     {
-      CopyChannel(scalars, c, scale, this->Colors.data() + c, 3, unused, ignored);
+      CopyChannel(scalars, c, scale, this->Colors.data() + c, 3, unused, ignored, shift, factor);
     }
     for (float& v : this->Colors)
     {
@@ -393,9 +450,32 @@ bool FrameInputs::SetPiece(const FrameSettings& settings, vtkImageData* image, T
 }
 
 //------------------------------------------------------------------------------
-bool FrameInputs::UpdateTransfer(
-  vtkVolumeProperty* property, bool skipping, const IsoSurfaces& iso, std::string& error)
+float FrameInputs::Stored(double value) const
 {
+  return static_cast<float>((value - this->Shift) * this->Scale);
+}
+
+//------------------------------------------------------------------------------
+IsoSurfaces FrameInputs::StoredIso(const IsoSurfaces& iso, const double* values) const
+{
+  IsoSurfaces out = iso;
+  for (int i = 0; i < iso.Count; ++i)
+  {
+    // The double value when it is the float one's source (a caller that set only the floats
+    // gets those), the float one as it is when not finite (+inf: crosses nothing).
+    const double v = values && static_cast<float>(values[i]) == iso.Values[i]
+      ? values[i]
+      : static_cast<double>(iso.Values[i]);
+    out.Values[i] = std::isfinite(v) ? this->Stored(v) : iso.Values[i];
+  }
+  return out;
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping,
+  const IsoSurfaces& dataIso, const double* isoValues, std::string& error)
+{
+  const IsoSurfaces iso = this->StoredIso(dataIso, isoValues);
   if (!property)
   {
     error = "the vtkVolume has no vtkVolumeProperty";
@@ -442,7 +522,7 @@ bool FrameInputs::UpdateTransfer(
   if (!property->GetDisableGradientOpacity(0))
   {
     // Table over [0, scalar range per unit world distance]; larger gradients clamp to the end.
-    this->GradientMax = static_cast<float>(this->Range[1] - this->Range[0]);
+    this->GradientMax = this->Range[1] - this->Range[0];
     std::vector<float> g(kGradientTableSize);
     property->GetGradientOpacity(0)->GetTable(0.0, this->GradientMax, kGradientTableSize, g.data());
     const bool constantOne =
@@ -480,8 +560,8 @@ bool FrameInputs::UpdateTransfer(
     TransferTable table{};
     table.RGBA = this->RGBA.data();
     table.Size = kTableSize;
-    table.ScalarMin = static_cast<float>(this->Range[0]);
-    table.ScalarMax = static_cast<float>(this->Range[1]);
+    table.ScalarMin = this->Stored(this->Range[0]);
+    table.ScalarMax = this->Stored(this->Range[1]);
     this->BrickDistance.resize(8 * bricks);
     BuildOccupancy(
       table, this->BrickCounts, this->BrickRanges.data(), this->BrickDistance.data(), &iso);
@@ -507,8 +587,10 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     g.ColorScalars = this->ColorScalars.data();
     p.ColorTable.RGBA = this->ColorRGBA.data();
     p.ColorTable.Size = kTableSize;
-    p.ColorTable.ScalarMin = static_cast<float>(this->ColorRange[0]);
-    p.ColorTable.ScalarMax = static_cast<float>(this->ColorRange[1]);
+    p.ColorTable.ScalarMin = static_cast<float>((this->ColorRange[0] - this->ColorShift) *
+      this->ColorScale);
+    p.ColorTable.ScalarMax = static_cast<float>((this->ColorRange[1] - this->ColorShift) *
+      this->ColorScale);
     p.ColorTable.GradientOpacity = nullptr;
     p.ColorTable.GradientSize = 0;
     p.ColorTable.GradientMax = 1.0f;
@@ -530,7 +612,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return false;
   }
   SetClipping(settings, image, g, p.Clip, signature);
-  p.Iso = settings.Iso;
+  p.Iso = this->StoredIso(settings.Iso, settings.IsoValues);
   const double isoCount = static_cast<double>(p.Iso.Count);
   signature.AddExact(&isoCount, 1);
   for (int i = 0; i < p.Iso.Count; ++i)
@@ -544,11 +626,11 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   TransferTable& tf = p.Transfer;
   tf.RGBA = this->RGBA.data();
   tf.Size = kTableSize;
-  tf.ScalarMin = static_cast<float>(this->Range[0]);
-  tf.ScalarMax = static_cast<float>(this->Range[1]);
+  tf.ScalarMin = this->Stored(this->Range[0]);
+  tf.ScalarMax = this->Stored(this->Range[1]);
   tf.GradientOpacity = this->GradientOpacity.empty() ? nullptr : this->GradientOpacity.data();
   tf.GradientSize = kGradientTableSize;
-  tf.GradientMax = this->GradientMax;
+  tf.GradientMax = static_cast<float>(this->GradientMax * this->Scale); // stored units
   tf.OpaqueBefore = this->OpaqueBefore.data();
   if (settings.EmptySpaceSkipping && !this->BrickDistance.empty())
   {

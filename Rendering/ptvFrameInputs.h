@@ -62,6 +62,8 @@ struct FrameSettings
   int CroppingFlags = 0;
   /// Isosurface blend mode: the property's iso values (sorted, at most 8); Count 0: composite.
   IsoSurfaces Iso;
+  /// The same values in double (the data's units: FrameInputs stores them as its voxels).
+  double IsoValues[kMaxIsoValues] = {};
   /// A piece of a distributed volume: this process's own extent (structured point indices)
   /// inside the image's, which camera rays stay in (the rest is a ghost layer). Empty (x0 > x1,
   /// the default): the whole image.
@@ -128,9 +130,10 @@ public:
     std::string& error, vtkIdType& nonFinite);
 
   /// Rebuild the transfer tables (and the occupancy grid) when the property, the skipping
-  /// switch or the isosurfaces (@a iso, Count 0 for composite) changed.
-  bool UpdateTransfer(
-    vtkVolumeProperty* property, bool skipping, const IsoSurfaces& iso, std::string& error);
+  /// switch or the isosurfaces (@a iso, Count 0 for composite, with @a isoValues in double)
+  /// changed.
+  bool UpdateTransfer(vtkVolumeProperty* property, bool skipping, const IsoSurfaces& iso,
+    const double* isoValues, std::string& error);
 
   /**
    * Fill @a params for a @a width x @a height frame of @a ren. @a zbuffer (window depths in
@@ -165,6 +168,10 @@ public:
   const double* GetWorldBounds() const { return this->WorldBounds; }
 
 private:
+  /// A scalar in the units the voxels are stored in ((v - Shift) * Scale).
+  float Stored(double value) const;
+  /// @a iso with its values (@a values, the data's units) in the stored units.
+  IsoSurfaces StoredIso(const IsoSurfaces& iso, const double* values) const;
   /// The camera rays' box of a distributed piece (FrameSettings::PieceExtent); false + @a error
   /// when the piece does not lie inside @a image.
   bool SetPiece(const FrameSettings& settings, vtkImageData* image, TraceParams& p,
@@ -176,12 +183,14 @@ private:
   vtkMTimeType VolumeTime = 0;
   unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
   vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
-  std::vector<float> Scalars;
+  std::vector<float> Scalars; ///< (v - Shift) * Scale: see StoredAs in the .cxx
+  double Shift = 0.0, Scale = 1.0;
   int Dims[3] = { 0, 0, 0 };
   double Range[2] = { 0, 1 };      ///< the tables' range: LocalRange, or the whole volume's
   double LocalRange[2] = { 0, 1 }; ///< the scalars' own range
   bool Dependent = false;
   std::vector<float> ColorScalars; ///< 2-component colour data: the colour channel
+  double ColorShift = 0.0, ColorScale = 1.0;
   double ColorRange[2] = { 0, 1 }; ///< its range (the colour table spans it)
   double LocalColorRange[2] = { 0, 1 };
   bool Whole = false;              ///< SetWholeVolume gave the ranges and bounds
@@ -200,7 +209,7 @@ private:
   std::vector<float> ShadowAlpha; ///< the opacity of one shadow/environment step
   std::vector<int> OpaqueBefore;  ///< TransferTable::OpaqueBefore of RGBA
   float StepTableKey[2] = { -1.0f, -1.0f }; ///< the step / unit distance they were built for
-  float GradientMax = 1.0f;
+  double GradientMax = 1.0; ///< the gradient table's end, in the data's units
   int Nearest = 0;
   std::vector<float> BrickRanges;    ///< per brick (lo, hi) of the voxels, see ptvOccupancy.h
   std::vector<int8_t> BrickDistance; ///< per brick, see Kernels/ptvOccupancy.h

@@ -127,8 +127,8 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     this->Inputs.SetWholeVolume(nullptr, nullptr, nullptr);
   }
   ok = ok &&
-    this->Inputs.UpdateTransfer(
-      vol->GetProperty(), request.Scene.EmptySpaceSkipping, request.Scene.Iso, error);
+    this->Inputs.UpdateTransfer(vol->GetProperty(), request.Scene.EmptySpaceSkipping,
+      request.Scene.Iso, request.Scene.IsoValues, error);
   if (ok && nonFinite > 0 && nonFinite != this->LastNonFinite)
   {
     messages.emplace_back(false,

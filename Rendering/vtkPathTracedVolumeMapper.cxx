@@ -125,7 +125,7 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
   {
     vtkContourValues* values = property ? property->GetIsoSurfaceValues() : nullptr;
     const int n = values ? values->GetNumberOfContours() : 0;
-    std::vector<float> kept;
+    std::vector<double> kept;
     for (int i = 0; i < n; ++i)
     {
       const double v = values->GetValue(i);
@@ -134,7 +134,7 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
         problem << "iso value " << i << " is " << v << "; it is ignored. ";
         continue;
       }
-      kept.push_back(static_cast<float>(v));
+      kept.push_back(v);
     }
     std::sort(kept.begin(), kept.end());
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
@@ -154,7 +154,9 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
     else
     {
       scene.Iso.Count = static_cast<int>(kept.size());
-      std::copy(kept.begin(), kept.end(), scene.Iso.Values);
+      std::copy(kept.begin(), kept.end(), scene.IsoValues); // stored as the voxels are
+      std::transform(kept.begin(), kept.end(), scene.Iso.Values,
+        [](double v) { return static_cast<float>(v); });
     }
   }
   else if (mode != vtkVolumeMapper::COMPOSITE_BLEND)

@@ -260,7 +260,8 @@ bool Capture(const std::string& dataDir, const Variant& variant, int size, Trace
   FrameSignature signature;
   if (!inputs.UpdateVolume(image, image->GetPointData()->GetScalars(),
         variant.ColorComponents != 0, error, nonFinite) ||
-    !inputs.UpdateTransfer(property, settings.EmptySpaceSkipping, settings.Iso, error) ||
+    !inputs.UpdateTransfer(
+      property, settings.EmptySpaceSkipping, settings.Iso, settings.IsoValues, error) ||
     !inputs.Build(renderer, volume, image, settings, size, size, zbuffer, params, signature,
       error))
   {

@@ -23,6 +23,9 @@ from pathtracedvolume import vtkPathTracedVolumeMapper
 from pathtracedvolume.scene import load_dataset, paper_preset, volume_property
 
 SIZE = 96
+# Windows stay open until the process ends: closing the X server's last client makes Xvfb
+# without -noreset reset, and the next window would abort in XOpenDisplay.
+_WINDOWS: list = []
 
 
 def _screenshot(window: Any) -> np.ndarray:
@@ -77,7 +80,7 @@ def _cube_in_front(multisamples: int) -> np.ndarray:
     window.AddRenderer(renderer)
     window.Render()
     image = _screenshot(window)
-    window.Finalize()
+    _WINDOWS.append(window)
     return image
 
 
@@ -142,7 +145,7 @@ def _two_volumes(order: str, stock: bool = False) -> np.ndarray:
     window.AddRenderer(renderer)
     window.Render()
     image = _screenshot(window)
-    window.Finalize()
+    _WINDOWS.append(window)
     return image
 
 
@@ -166,3 +169,88 @@ def test_two_translucent_volumes_draw_in_either_order() -> None:
     print(f"blue volume alone in the overlap: {back_alone:.3f}")
     for order, value in blue.items():
         assert value > 0.5 * back_alone, f"{order}: the red volume hides the blue one"
+
+
+def _wavelet_values() -> np.ndarray:
+    from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
+    source = vtkRTAnalyticSource()
+    source.SetWholeExtent(-12, 12, -12, 12, -12, 12)
+    source.Update()
+    return numpy_support.vtk_to_numpy(source.GetOutput().GetPointData().GetScalars())
+
+
+def _offset_scene(values: np.ndarray, lo: float, hi: float, stock: bool = False) -> Any:
+    """A 25^3 volume of ``values`` (any dtype) whose transfer function ramps opacity over
+    [lo, hi]: (window, mapper, keep)."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+    from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+
+    image = vtkImageData()
+    image.SetDimensions(25, 25, 25)
+    array = numpy_support.numpy_to_vtk(np.ascontiguousarray(values), deep=True)
+    array.SetName("scalars")
+    image.GetPointData().SetScalars(array)
+    colour = vtkColorTransferFunction()
+    colour.AddRGBPoint(lo, 0.2, 0.4, 1.0)
+    colour.AddRGBPoint(hi, 1.0, 0.9, 0.5)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(lo, 0.0)
+    opacity.AddPoint(lo + 0.5 * (hi - lo), 0.0)
+    opacity.AddPoint(hi, 0.9)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour)
+    prop.SetScalarOpacity(opacity)
+    prop.SetInterpolationTypeToLinear()
+    mapper = vtkFixedPointVolumeRayCastMapper() if stock else vtkPathTracedVolumeMapper()
+    if not stock:
+        mapper.ConvergeStillRendersOff()
+        mapper.DenoiseOff()
+        mapper.SetSeed(2)
+    mapper.SetInputData(image)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    renderer = vtkRenderer()
+    renderer.AddVolume(volume)
+    renderer.ResetCamera()
+    renderer.GetActiveCamera().Azimuth(30)
+    window = vtkRenderWindow()
+    window.SetMultiSamples(0)
+    window.SetOffScreenRendering(1)
+    window.SetSize(48, 48)
+    window.AddRenderer(renderer)
+    return window, mapper, (image, prop, volume, renderer)
+
+
+def _silhouette(values: np.ndarray, lo: float, hi: float, stock: bool = False) -> np.ndarray:
+    window, mapper, keep = _offset_scene(values, lo, hi, stock)
+    for _ in range(1 if stock else 8):
+        window.Render()
+    image = _screenshot(window).max(-1) > 0.05
+    _WINDOWS.append(window)
+    del keep
+    return image
+
+
+def test_offset_and_tiny_range_scalars_render_like_the_plain_ones() -> None:
+    """Scalars float cannot hold as they are (1e10 + [37, 277] rounds to a few values, 1e300
+    overflows, a 1e-36 range underflows) give the plain volume's silhouette, as the stock
+    mapper does; before, they rendered blank, blocky, as a saturated box, or as 'NaN or
+    infinite'."""
+    base = _wavelet_values().astype(np.float64)
+    lo, hi = 37.0, 277.0
+    plain = _silhouette(base, lo, hi)
+    stock = _silhouette(base, lo, hi, stock=True)
+    print(f"plain: {plain.sum()} pixels drawn, agreement with the stock mapper {(plain == stock).mean():.3f}")
+    assert plain.sum() > 100 and (plain == stock).mean() > 0.9
+    cases = {"int64 1e10 +": ((base + 1e10).astype(np.int64), 1e10 + lo, 1e10 + hi),
+             "double 1e9 +": (base + 1e9, 1e9 + lo, 1e9 + hi),
+             "double 1e300 +": (base * 1e285 + 1e300, 1e285 * lo + 1e300, 1e285 * hi + 1e300),
+             "double x 1e-38": (base * 1e-38, lo * 1e-38, hi * 1e-38),
+             "float x 1e-36": ((base * 1e-36).astype(np.float32), lo * 1e-36, hi * 1e-36)}
+    for name, (values, a, b) in cases.items():
+        got = _silhouette(values, a, b)
+        agree = (got == plain).mean()
+        print(f"{name}: {got.sum()} pixels drawn (plain {plain.sum()}), agreement {agree:.3f}")
+        assert agree > 0.97, f"{name}: the silhouette differs from the plain volume's ({agree:.3f})"
