@@ -1,7 +1,7 @@
 #include "ptvConvergence.h"
 
+#include "ptvConvergenceBlend.h"
 #include "ptvThreads.h"
-
 
 #include <algorithm>
 #include <cmath>
@@ -79,9 +79,10 @@ int VarianceBox(int count)
   return count < 16 ? 7 : count < 32 ? 5 : count < 128 ? 3 : 1;
 }
 
-/// @a map (width x height) box-filtered in place over size x size pixels, edges clamped.
-void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int height, int size,
-  int threads)
+/// @a map (width x height pixels of @a channels interleaved floats) box-filtered in place over
+/// size x size pixels, edges clamped.
+void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int height,
+  int channels, int size, int threads)
 {
   if (size <= 1)
   {
@@ -90,16 +91,19 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
   const int r = size / 2;
   const float norm = 1.0f / static_cast<float>(size);
   scratch.resize(map.size());
+  // One line per (row or column, channel): @a length values @a along apart.
   auto pass = [&](const float* in, float* out, int lines, int length, std::ptrdiff_t along,
                 std::ptrdiff_t across)
   {
-    ParallelFor(threads, 0, lines, 0,
+    ParallelFor(threads, 0, lines * channels, 0,
       [&](int begin, int end)
       {
-        for (int line = begin; line < end; ++line)
+        for (int id = begin; id < end; ++id)
         {
-          const float* src = in + line * across;
-          float* dst = out + line * across;
+          const int line = id / channels;
+          const int c = id % channels;
+          const float* src = in + line * across + c;
+          float* dst = out + line * across + c;
           auto at = [&](int i) { return src[std::min(std::max(i, 0), length - 1) * along]; };
           double sum = 0.0;
           for (int i = -r; i <= r; ++i)
@@ -108,14 +112,91 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
           }
           for (int i = 0; i < length; ++i)
           {
-            dst[i * along] = std::max(static_cast<float>(sum) * norm, 0.0f); // no -0 rounding
+            dst[i * along] = static_cast<float>(sum) * norm;
             sum += at(i + r + 1) - at(i - r);
           }
         }
       });
   };
-  pass(map.data(), scratch.data(), height, width, 1, width);   // rows
-  pass(scratch.data(), map.data(), width, height, width, 1);   // columns
+  const std::ptrdiff_t c = channels;
+  pass(map.data(), scratch.data(), height, width, c, c * width); // rows
+  pass(scratch.data(), map.data(), width, height, c * width, c); // columns
+}
+
+/// log(x) for x > 0 to about 1e-5 absolute: the exponent plus a polynomial in the mantissa
+/// (features only; std::log five times a pixel cost more than the rest of the blend).
+inline float FastLog(float x)
+{
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int exponent = static_cast<int>((bits >> 23) & 0xFF) - 127;
+  bits = (bits & 0x007FFFFFu) | 0x3F800000u; // mantissa in [1, 2)
+  float m;
+  std::memcpy(&m, &bits, sizeof m);
+  // log(m) on [1, 2) via t = (m - 1) / (m + 1): log m = 2 (t + t^3/3 + t^5/5 + t^7/7 + t^9/9)
+  const float t = (m - 1.0f) / (m + 1.0f);
+  const float t2 = t * t;
+  const float series =
+    t * (2.0f + t2 * (2.0f / 3.0f + t2 * (2.0f / 5.0f + t2 * (2.0f / 7.0f + t2 * (2.0f / 9.0f)))));
+  return static_cast<float>(exponent) * 0.69314718f + series;
+}
+
+/// Added inside each log feature (converge_blend.py's EPS).
+constexpr float kLogOffset = 1e-8f;
+
+/// The blend's softmax weights of its four candidates from the features @a phi.
+inline void BlendWeights(const float* phi, float* w)
+{
+  float hidden[blend::kHidden];
+  for (int h = 0; h < blend::kHidden; ++h)
+  {
+    float a = blend::kB1[h];
+    for (int i = 0; i < blend::kInputs; ++i)
+    {
+      a += blend::kW1[h * blend::kInputs + i] * phi[i];
+    }
+    hidden[h] = std::max(a, 0.0f);
+  }
+  float logits[blend::kCandidates];
+  float top = -3.4e38f;
+  for (int j = 0; j < blend::kCandidates; ++j)
+  {
+    float a = blend::kB2[j];
+    for (int h = 0; h < blend::kHidden; ++h)
+    {
+      a += blend::kW2[j * blend::kHidden + h] * hidden[h];
+    }
+    logits[j] = a;
+    top = std::max(top, a);
+  }
+  float sum = 0.0f;
+  for (int j = 0; j < blend::kCandidates; ++j)
+  {
+    w[j] = std::exp(logits[j] - top);
+    sum += w[j];
+  }
+  for (int j = 0; j < blend::kCandidates; ++j)
+  {
+    w[j] /= sum;
+  }
+}
+
+/// How far the shown image has moved to the raw mean after @a k frames: 0 up to
+/// kHandOverFrom, then linearly in log2(k) to 1 at 4 kHandOverFrom (converge_blend.py's
+/// hand_over: the blend is trained up to 512 frames, and the mean is unbiased).
+constexpr int kHandOverFrom = 256;
+float HandOver(int k)
+{
+  return k <= kHandOverFrom
+    ? 0.0f
+    : std::min(1.0f, 0.5f * std::log2(static_cast<float>(k) / float(kHandOverFrom)));
+}
+
+/// PSNR in dB of a tone-mapped MSE; 0 ("not known") for 0: identical halves say nothing about
+/// what the samples have not met yet (a 2 x 1 view of a faint volume).
+double ToPsnr(double mse)
+{
+  return mse > 0.0 ? -10.0 * std::log10(mse) : 0.0;
 }
 }
 
@@ -167,109 +248,195 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
 //------------------------------------------------------------------------------
 double Convergence::Combine(const float* denoised, int count, float* shown, int threads)
 {
-  const float* mean = this->Mean.data();
   const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
-  this->Blend.clear(); // BlendAlpha: the denoised alpha unless set below
+  this->Weights.clear(); // BlendAlpha: the denoised alpha unless set below
   if (count != this->Count || n == 0)
   {
     return 0.0; // statistics of another accumulation: nothing to say
   }
-  if (count < 2)
-  {
-    if (denoised)
-    {
-      std::copy(denoised, denoised + 3 * n, shown); // one frame: no variance, the denoised image
-    }
-    return 0.0;
-  }
-  // Every pixel is written below; the denoiser's maps only exist with a denoised image.
-  this->HalfVariance.resize(n);
-  this->DenoiserError.resize(denoised ? n : 0);
-  this->Variance.resize(denoised ? n : 0);
   const int k = count;
-  const int odd = (k + 1) / 2;
-  const int even = k - odd;
-  const float halfScale = float(odd) * float(even) / (float(k) * float(k));
   const ToneTable& g = Tone();
+  const float* mean = this->Mean.data();
+  if (k >= 2)
+  {
+    // The raw mean's error from the two half accumulations (the still render's estimate).
+    this->HalfVariance.resize(n);
+    const int odd = (k + 1) / 2;
+    const int even = k - odd;
+    const float halfScale = float(odd) * float(even) / (float(k) * float(k));
+    ParallelFor(threads, std::size_t(0), n, std::size_t(0),
+      [&](std::size_t begin, std::size_t end)
+      {
+        for (std::size_t p = begin; p < end; ++p)
+        {
+          float h = 0.0f;
+          for (int c = 0; c < 3; ++c)
+          {
+            const std::size_t i = 3 * p + c;
+            const float other =
+              (float(k) * mean[i] - float(odd) * this->OddMean[i]) / float(even);
+            const float half = g(this->OddMean[i]) - g(other);
+            h += half * half * halfScale;
+          }
+          this->HalfVariance[p] = h / 3.0f;
+        }
+      });
+    Box(this->HalfVariance, this->Scratch, this->Width, this->Height, 1,
+      std::max(VarianceBox(k), 3), threads);
+  }
+  if (!denoised)
+  {
+    if (k < 2)
+    {
+      return 0.0;
+    }
+    double sum = 0.0; // Denoise off: the raw mean is shown
+    for (std::size_t p = 0; p < n; ++p)
+    {
+      sum += this->HalfVariance[p];
+    }
+    return ToPsnr(sum / static_cast<double>(n));
+  }
+  this->Blend(denoised, k, shown, threads);
+  if (k < 2)
+  {
+    return 0.0; // one frame: no estimate of the mean's error
+  }
+  // The shown image's error: C = sum w_j C_j leans on the mean's own noise by
+  // rho = w_M + w_3 / 9 + w_7 / 49, so E[(C - M)^2] = MSE(C) + (1 - 2 rho) V (V: the mean's
+  // variance); box((g(C) - g(M))^2) estimates the left side over the variance's box.
+  this->Error.resize(n);
   ParallelFor(threads, std::size_t(0), n, std::size_t(0),
     [&](std::size_t begin, std::size_t end)
     {
       for (std::size_t p = begin; p < end; ++p)
       {
-        float e = 0.0f, v = 0.0f, h = 0.0f;
+        float e = 0.0f;
+        for (int c = 0; c < 3; ++c)
+        {
+          const float diff = g(shown[3 * p + c]) - g(mean[3 * p + c]);
+          e += diff * diff;
+        }
+        this->Error[p] = e / 3.0f;
+      }
+    });
+  Box(this->Error, this->Scratch, this->Width, this->Height, 1, std::max(VarianceBox(k), 3),
+    threads);
+  double sum = 0.0;
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    const float* w = &this->Weights[blend::kCandidates * p];
+    const float rho = w[3] + w[1] / 9.0f + w[2] / 49.0f;
+    const float v = this->HalfVariance[p];
+    sum += std::max(this->Error[p] - (1.0f - 2.0f * rho) * v, rho * rho * v);
+  }
+  return ToPsnr(sum / static_cast<double>(n));
+}
+
+//------------------------------------------------------------------------------
+void Convergence::Blend(const float* denoised, int k, float* shown, int threads)
+{
+  const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
+  const ToneTable& g = Tone();
+  const float* mean = this->Mean.data();
+  // Per pixel: the mean's variance (delta method; 0 on the first frame) and the squared
+  // distance of the denoised image from the mean, tone-mapped; the residual M - D.
+  this->Variance.resize(n);
+  this->Distance.resize(n);
+  this->Residual3.resize(3 * n);
+  ParallelFor(threads, std::size_t(0), n, std::size_t(0),
+    [&](std::size_t begin, std::size_t end)
+    {
+      for (std::size_t p = begin; p < end; ++p)
+      {
+        float v = 0.0f, e = 0.0f;
         for (int c = 0; c < 3; ++c)
         {
           const std::size_t i = 3 * p + c;
           const float m = mean[i];
-          const float other = (float(k) * m - float(odd) * this->OddMean[i]) / float(even);
-          const float half = g(this->OddMean[i]) - g(other);
-          h += half * half * halfScale;
-          if (denoised)
+          const float diff = g(denoised[i]) - g(m);
+          e += diff * diff;
+          if (k >= 2)
           {
-            const float diff = g(denoised[i]) - g(m);
-            e += diff * diff;
             const float slope = ToneSlope(g, m);
             v += std::max(this->SecondMoment[i] - m * m, 0.0f) / float(k - 1) * slope * slope;
           }
+          this->Residual3[i] = m - denoised[i];
         }
-        this->HalfVariance[p] = h / 3.0f;
-        if (denoised)
+        this->Variance[p] = v / 3.0f;
+        this->Distance[p] = e / 3.0f;
+      }
+    });
+  this->VarianceBoxed = this->Variance;
+  Box(this->VarianceBoxed, this->Scratch, this->Width, this->Height, 1, VarianceBox(k), threads);
+  this->Distance3 = this->Distance;
+  Box(this->Distance3, this->Scratch, this->Width, this->Height, 1, 3, threads);
+  this->Distance7 = this->Distance;
+  Box(this->Distance7, this->Scratch, this->Width, this->Height, 1, 7, threads);
+  this->Residual7 = this->Residual3;
+  Box(this->Residual3, this->Scratch, this->Width, this->Height, 3, 3, threads);
+  Box(this->Residual7, this->Scratch, this->Width, this->Height, 3, 7, threads);
+
+  this->Weights.resize(blend::kCandidates * n);
+  const float logK = std::log(static_cast<float>(k));
+  const float handOver = HandOver(k);
+  const float first = k == 1 ? 1.0f : 0.0f;
+  ParallelFor(threads, std::size_t(0), n, std::size_t(0),
+    [&](std::size_t begin, std::size_t end)
+    {
+      for (std::size_t p = begin; p < end; ++p)
+      {
+        float tm = 0.0f, td = 0.0f;
+        for (int c = 0; c < 3; ++c)
         {
-          this->DenoiserError[p] = e / 3.0f;
-          this->Variance[p] = v / 3.0f;
+          tm += std::min(g(mean[3 * p + c]), 1.0f);
+          td += std::min(g(denoised[3 * p + c]), 1.0f);
+        }
+        const float phi[blend::kInputs] = { FastLog(std::max(this->VarianceBoxed[p], 0.0f) + kLogOffset),
+          FastLog(std::max(this->Variance[p], 0.0f) + kLogOffset), FastLog(std::max(this->Distance[p], 0.0f) + kLogOffset),
+          FastLog(std::max(this->Distance3[p], 0.0f) + kLogOffset), FastLog(std::max(this->Distance7[p], 0.0f) + kLogOffset),
+          logK, first, tm / 3.0f, td / 3.0f };
+        float* w = &this->Weights[blend::kCandidates * p];
+        BlendWeights(phi, w);
+        for (int j = 0; j < 3; ++j) // beyond the trained counts: towards the raw mean
+        {
+          w[3] += handOver * w[j];
+          w[j] *= 1.0f - handOver;
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          const std::size_t i = 3 * p + c;
+          shown[i] = std::max(denoised[i] + w[1] * this->Residual3[i] +
+              w[2] * this->Residual7[i] + w[3] * (mean[i] - denoised[i]),
+            0.0f); // the residual boxes can undershoot next to a dark pixel
         }
       }
     });
-  const int box = VarianceBox(k);
-  Box(this->HalfVariance, this->Scratch, this->Width, this->Height, std::max(box, 3), threads);
-  if (denoised)
-  {
-    // The denoiser's error over the same box as the variance it is corrected by: over 3x3 pixels
-    // its estimate was too noisy at 8-15 frames and gave noisy raw pixels weight (the head at
-    // 512² showed 0.9 dB less at 8 spp than the denoised image alone; test_converged_real.py).
-    Box(this->DenoiserError, this->Scratch, this->Width, this->Height, std::max(box, 3), threads);
-    Box(this->Variance, this->Scratch, this->Width, this->Height, box, threads);
-  }
-
-  this->Blend.assign(n, 1.0f); // Denoise off: the raw mean
-  double sum = 0.0;
-  for (std::size_t p = 0; p < n; ++p)
-  {
-    if (!denoised)
-    {
-      sum += this->HalfVariance[p]; // Denoise off: the raw mean is shown (w = 1)
-      continue;
-    }
-    const float v = this->Variance[p];
-    const float e = std::max(this->DenoiserError[p] - v, 0.0f);
-    const bool blend = k >= kMinimumBlendFrames && e + v > 0.0f;
-    const float w = blend ? std::min(e / (e + v), 1.0f) : 0.0f;
-    this->Blend[p] = w;
-    for (int c = 0; c < 3; ++c)
-    {
-      const std::size_t i = 3 * p + c;
-      shown[i] = w * mean[i] + (1.0f - w) * denoised[i];
-    }
-    sum += double(w) * w * this->HalfVariance[p] +
-      double(1.0f - w) * (1.0f - w) * this->DenoiserError[p];
-  }
-  const double mse = sum / static_cast<double>(n);
-  return mse > 0.0 ? -10.0 * std::log10(mse) : 100.0; // identical halves: an empty view
 }
 
 //------------------------------------------------------------------------------
-void Convergence::BlendAlpha(
-  const float* alpha, const float* denoisedAlpha, std::size_t pixels, float* shown) const
+void Convergence::BlendAlpha(const float* alpha, const float* denoisedAlpha, std::size_t pixels,
+  float* shown, int threads)
 {
-  if (this->Blend.size() != pixels) // one frame (or no statistics): the denoised image's alpha
+  if (this->Weights.size() != blend::kCandidates * pixels) // no statistics of this size
   {
     std::copy(denoisedAlpha, denoisedAlpha + pixels, shown);
     return;
   }
+  this->Residual3.resize(pixels);
   for (std::size_t p = 0; p < pixels; ++p)
   {
-    const float w = this->Blend[p];
-    shown[p] = w * alpha[p] + (1.0f - w) * denoisedAlpha[p];
+    this->Residual3[p] = alpha[p] - denoisedAlpha[p];
+  }
+  this->Residual7 = this->Residual3;
+  Box(this->Residual3, this->Scratch, this->Width, this->Height, 1, 3, threads);
+  Box(this->Residual7, this->Scratch, this->Width, this->Height, 1, 7, threads);
+  for (std::size_t p = 0; p < pixels; ++p)
+  {
+    const float* w = &this->Weights[blend::kCandidates * p];
+    const float a = denoisedAlpha[p] + w[1] * this->Residual3[p] + w[2] * this->Residual7[p] +
+      w[3] * (alpha[p] - denoisedAlpha[p]);
+    shown[p] = std::min(std::max(a, 0.0f), 1.0f);
   }
 }
 }

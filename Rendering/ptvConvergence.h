@@ -1,24 +1,26 @@
 /**
  * @file ptvConvergence.h
- * @brief Private: how far the accumulation is from converged, and the image that converges --
- *        the denoised image faded into the raw running mean by their estimated errors.
+ * @brief Private: what the accumulation shows -- the denoised image and the raw running mean
+ *        mixed per pixel by a learned blend that leans on the mean as samples accumulate -- and
+ *        how far that image is from converged.
  *
  * Kept per pixel while frames of one view accumulate: their mean M, the mean of the squared frame
  * radiance (the variance of M) and the mean of the odd-numbered frames (with the even ones: two
  * independent half-accumulations). M is the accumulated Radiance pass, bit for bit, until the
  * camera moves; after that the pass also holds reprojected history (ptvReprojection), whose
- * error these statistics cannot see, so the blend and the estimate use M, the view's own frames. Errors are measured where the project measures quality,
- * after the tone map g(x) = x^(1/2.2) (docs/measuring.md):
- *  - raw mean M, variance V = g'(M)^2 (E[f^2] - M^2) / (k - 1) (delta method), box-filtered
- *    with a radius that shrinks as frames add degrees of freedom;
- *  - denoised D, error E = box((g(D) - g(M))^2) - V (its squared distance from M, less the
- *    part that is M's own noise), over the variance's box (at least 3x3);
- *  - shown C = w M + (1 - w) D with w = E / (E + V) (the per-pixel blend of two estimates with
- *    the least squared error), from 8 frames on (fewer give too noisy a variance: measured in
- *    Testing/Benchmarks/convergence.py); below that, D.
- * The estimated error of C (for the stopping rule of still renders) uses the half
- * accumulations instead of the delta method, which misses the rare samples of dark pixels:
- * V_half = (g(A) - g(B))^2 n_A n_B / k^2, and MSE = mean(w^2 V_half + (1 - w)^2 box(...)).
+ * error these statistics cannot see, so the blend and the estimate use M, the view's own frames.
+ *
+ * The shown image mixes four candidates, from the most smoothed to the least: the denoised D,
+ * D + box3(M - D), D + box7(M - D) and M, with softmax weights of a small MLP
+ * (ptvConvergenceBlend.h, trained by Training/ptv_training/converge_blend.py) on nine features
+ * per pixel: M's variance (tone-mapped by the delta method, alone and box-filtered), D's squared
+ * distance from M (alone, over 3x3 and 7x7 pixels), log k, whether k is 1, and the tone-mapped
+ * luminance of M and D. Errors are measured after the tone map g(x) = x^(1/2.2)
+ * (docs/measuring.md). The estimated error of what is shown (for the stopping rule of still
+ * renders) uses the half accumulations, which do not miss the rare samples of dark pixels as
+ * the delta method does: V = (g(A) - g(B))^2 n_A n_B / k^2 over a box, and with
+ * rho = w_M + w_3 / 9 + w_7 / 49 (how much of M's own noise the mix keeps)
+ * MSE = mean(max(box((g(C) - g(M))^2) - (1 - 2 rho) V, rho^2 V)).
  */
 #ifndef ptvConvergence_h
 #define ptvConvergence_h
@@ -31,8 +33,8 @@ namespace ptv
 class Convergence
 {
 public:
-  /// Frames before the raw mean is blended in (the variance needs this many samples).
-  static constexpr int kMinimumBlendFrames = 8;
+  /// Samples per pixel a still render traces at least before it trusts the estimate.
+  static constexpr int kMinimumStillSamples = 8;
 
   /**
    * Add frame @a count (1 = first: restarts) of radiance @a frame (3 floats per pixel) for a
@@ -45,28 +47,34 @@ public:
    * The image to show from the mean of the @a count frames added and @a denoised (nullptr:
    * Denoise off, the accumulation is shown) into @a shown (3 floats per pixel; may be nullptr
    * when @a denoised is). Returns the estimated PSNR in dB of the mean, or of what is shown with
-   * a denoiser (tone-mapped, like docs/measuring.md); 0 when not known yet (fewer than 2 frames).
+   * a denoiser (tone-mapped, like docs/measuring.md); 0 when not known (fewer than 2 frames, or
+   * halves that agree exactly: nothing met yet says how much is still to meet).
    */
   double Combine(const float* denoised, int count, float* shown, int threads);
 
   /**
-   * The opacity to draw the last Combine's shown image with: per pixel the same blend of the
+   * The opacity to draw the last Combine's shown image with: per pixel the same mix of the
    * accumulated @a alpha and @a denoisedAlpha (the alpha through the denoiser's grid) as the
-   * colour's, w alpha + (1 - w) denoisedAlpha, into @a shown (@a pixels floats each; below
-   * kMinimumBlendFrames frames, or without statistics of this size, @a denoisedAlpha).
+   * colour's, clamped to [0, 1], into @a shown (@a pixels floats each; without statistics of
+   * this size, @a denoisedAlpha).
    */
-  void BlendAlpha(
-    const float* alpha, const float* denoisedAlpha, std::size_t pixels, float* shown) const;
+  void BlendAlpha(const float* alpha, const float* denoisedAlpha, std::size_t pixels,
+    float* shown, int threads);
 
 private:
+  /// The learned mix of @a denoised and the mean after @a k frames into @a shown (Weights).
+  void Blend(const float* denoised, int k, float* shown, int threads);
+
   int Width = 0;
   int Height = 0;
   int Count = 0;
   std::vector<float> Mean;         ///< mean of the frames, 3 per pixel
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
-  std::vector<float> DenoiserError, Variance, HalfVariance, Scratch;
-  std::vector<float> Blend; ///< the last Combine's w per pixel (0: the denoised image)
+  std::vector<float> Variance, VarianceBoxed, Distance, Distance3, Distance7; ///< features
+  std::vector<float> Residual3, Residual7; ///< box3 and box7 of M - D (of the alpha: BlendAlpha)
+  std::vector<float> HalfVariance, Error, Scratch;
+  std::vector<float> Weights; ///< the last Combine's 4 weights per pixel (D, box3, box7, M)
 };
 }
 

@@ -460,10 +460,9 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
     passes[p] = acc.Data(p);
   }
   passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
-  // With KeepEdgeMeans the edge pixels lean towards their own means (SampleRatio) until the
-  // Converged pass weighs every pixel's mean against the denoised value by their estimated
-  // errors (which assume the two independent).
-  if (request.KeepEdgeMeans && this->AccumulatedFrames < Convergence::kMinimumBlendFrames)
+  // With KeepEdgeMeans the edge pixels of the first frame lean towards their own means
+  // (SampleRatio); from the second frame on the Converged pass mixes every pixel's mean in.
+  if (request.KeepEdgeMeans && this->AccumulatedFrames < 2)
   {
     passes[PassSampleRatio] = acc.Data(PassSampleRatio);
   }
@@ -528,8 +527,8 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
     const std::size_t n =
       static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
     this->ConvergedAlpha.resize(n);
-    this->Converging.BlendAlpha(
-      acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), n, this->ConvergedAlpha.data());
+    this->Converging.BlendAlpha(acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), n,
+      this->ConvergedAlpha.data(), request.Threads);
   }
   this->CombinedValid = true;
   this->CombinedWithDenoiser = denoised;
@@ -548,9 +547,14 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
       request.Progress(std::min(1.0, std::max(0.0, fraction)));
     }
   };
-  // Estimates cost a denoise each: the first after kMinimumBlendFrames (the estimate needs
-  // them), then where the 1/frames decay of the error predicts the target, at most 1.5x on.
-  int next = std::max(Convergence::kMinimumBlendFrames, this->AccumulatedFrames);
+  // The least a still traces: Convergence::kMinimumStillSamples samples per pixel (counted in
+  // samples: SamplesPerFrame 4096 needs no more than 2 frames), and 2 frames for the estimate.
+  const int samples = std::max(request.Scene.SamplesPerFrame, 1);
+  const int minimum =
+    std::max(2, (Convergence::kMinimumStillSamples + samples - 1) / samples);
+  // Estimates cost a denoise each: the first after that minimum, then where the 1/frames decay
+  // of the error predicts the target, at most 1.5x on.
+  int next = std::max(minimum, this->AccumulatedFrames);
   enum Decision
   {
     Continue,
@@ -565,7 +569,7 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
     {
       this->Combine(request, messages);
       const double quality = this->EstimatedQuality;
-      if (k >= Convergence::kMinimumBlendFrames && quality >= request.StillQuality)
+      if (k >= minimum && quality >= request.StillQuality)
       {
         decision = Converged;
       }
@@ -583,6 +587,10 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
       Now() - start >= request.StillTimeBudget)
     {
       decision = Stop;
+    }
+    if (decision == Continue && request.Abort && request.Abort())
+    {
+      decision = Stop; // the render window's abort check (vtkRenderWindow::CheckAbortStatus)
     }
     decision = this->Parallel.Agree(decision); // process 0 estimates (it alone denoises)
     if (decision != Continue)

@@ -1,5 +1,5 @@
 // Still renders and images that converge (vtkPathTracedVolumeMapper, ptvConvergence):
-//  - the shown image (pass Converged: the denoised image faded into the raw mean) is at every
+//  - the shown image (pass Converged: the learned mix of the denoised image and the raw mean) is at every
 //    sample count within 0.3 dB of the better of raw and denoised, and within 0.3 dB of raw
 //    from 256 samples on (PSNR after the tone map x^(1/2.2), against a 2048-spp reference of
 //    another seed);
@@ -7,7 +7,9 @@
 //    quality reaches StillQuality; the estimate is not optimistic by more than 1 dB; a second
 //    still render traces nothing; an interactive render traces one frame;
 //  - MaximumStillFrames and StillTimeBudget stop a still render that cannot reach its target;
-//    progress events run to 1; with Denoise off the raw mean converges the same way.
+//    progress events run to 1; with Denoise off the raw mean converges the same way;
+//  - the still's minimum counts samples; the window's abort check stops it; a 2 x 1 view of a
+//    faint volume is not taken as converged before any sample met it (issue #59).
 #include "ptvTestCheck.h"
 #include "ptvTestMetrics.h"
 #include "ptvTestScene.h"
@@ -170,6 +172,62 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
       !s.Mapper->GetStillConverged() && seconds < 30.0,
     label + "StillTimeBudget stops a still render (" + std::to_string(seconds) + " s)");
 }
+
+/// Issue #59: a still render's minimum counts samples, not frames; the render window's abort
+/// check stops it between frames; a view whose frames all agree (a faint volume in a 2 x 1
+/// window: every sample so far missed it) is not taken as converged.
+void TestStillRenderBounds()
+{
+  {
+    Scene s;
+    s.Mapper->SetSamplesPerFrame(64);
+    s.Window->Render();
+    const int frames = s.Mapper->GetLastRenderFrames();
+    Check(s.Mapper->GetStillConverged() && frames >= 2 && frames < 8,
+      "SamplesPerFrame 64: the still's minimum is 8 samples, not 8 frames (took " +
+        std::to_string(frames) + " frames)");
+  }
+  {
+    Scene s;
+    s.Mapper->SetStillQuality(100.0); // out of reach: only the abort stops it
+    int checks = 0;
+    vtkNew<vtkCallbackCommand> abort;
+    abort->SetClientData(&checks);
+    abort->SetCallback(
+      [](vtkObject* caller, unsigned long, void* client, void*)
+      {
+        if (++*static_cast<int*>(client) == 1) // VTK checks at most 5 times a second
+        {
+          static_cast<vtkRenderWindow*>(caller)->SetAbortRender(1);
+        }
+      });
+    s.Window->AddObserver(vtkCommand::AbortCheckEvent, abort);
+    s.Window->Render();
+    const int frames = s.Mapper->GetLastRenderFrames();
+    Check(frames >= 1 && frames <= 2 && !s.Mapper->GetStillConverged(),
+      "the render window's abort check stops a still render (" + std::to_string(frames) +
+        " frames)");
+  }
+  {
+    Scene s(2);
+    s.Window->SetSize(2, 1);
+    s.Opacity->RemoveAllPoints();
+    s.Opacity->AddPoint(37, 0.0015); // about 0.03 through the volume's 33 voxels
+    s.Opacity->AddPoint(277, 0.0015);
+    s.Window->Render();
+    const std::vector<float> alpha = s.Pass("Alpha");
+    double seen = 0.0;
+    for (float a : alpha)
+    {
+      seen += a;
+    }
+    std::ostringstream what;
+    what << "2 x 1 window of a faint volume: " << s.Mapper->GetLastRenderFrames()
+         << " frames, estimate " << s.Mapper->GetEstimatedQuality() << " dB, alpha sum " << seen;
+    std::cout << what.str() << "\n";
+    Check(seen > 0.0 && s.Mapper->GetEstimatedQuality() < 100.0, what.str());
+  }
+}
 }
 
 int TestPTVStillRender(int, char*[])
@@ -179,5 +237,6 @@ int TestPTVStillRender(int, char*[])
   TestConvergedImage(ref);
   TestStillRender(ref, refMse, true);
   TestStillRender(ref, refMse, false);
+  TestStillRenderBounds();
   return TestResult();
 }

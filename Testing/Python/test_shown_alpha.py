@@ -5,9 +5,10 @@ the frame's ray met no event (the shader discards alpha <= 0) however much colou
 gave the pixel, and no background through a translucent pixel whose ray met one. These tests
 read the window back and check it against the passes: premultiplied colour over the background
 with DenoisedAlpha as the opacity, DenoisedAlpha is the Alpha pass through the finest level of
-the denoiser's grid (vtkPTVDenoiser with the same guide), and after several frames Converged is
-drawn with an opacity between Alpha and DenoisedAlpha (their per-pixel blend). Needs a display
-(ctest runs under Xvfb) and the built package on PYTHONPATH."""
+the denoiser's grid (vtkPTVDenoiser with the same guide), and Converged is drawn with the same
+per-pixel mix of Alpha and DenoisedAlpha as its colour's (ptvConvergence: DenoisedAlpha, plus
+the 3x3 or 7x7 box of Alpha - DenoisedAlpha, or Alpha), so within the range of those four.
+Needs a display (ctest runs under Xvfb) and the built package on PYTHONPATH."""
 from __future__ import annotations
 
 from typing import Tuple
@@ -35,15 +36,32 @@ def get_pass(mapper, name: str) -> np.ndarray:
     return wavelet_pass(mapper, name, (W, H)).reshape(H, W, -1)
 
 
-def test_one_frame_is_drawn_with_denoised_alpha() -> None:
+def opacity_bounds(alpha: np.ndarray, denoised_alpha: np.ndarray, background: np.ndarray
+                   ) -> Tuple[np.ndarray, np.ndarray]:
+    """Per pixel the least and most opacity the shown image's mix can draw with (its four
+    candidates, clamped to [0, 1]), widened by the window's rounding."""
+    from scipy.ndimage import uniform_filter
+    residual = alpha - denoised_alpha
+    candidates = np.stack([denoised_alpha, alpha] + [
+        denoised_alpha + uniform_filter(residual, size=s, mode="nearest") for s in (3, 7)])
+    candidates = np.clip(candidates, 0.0, 1.0)
+    slack = 3 * LSB / background.min()
+    return candidates.min(0) - slack, candidates.max(0) + slack
+
+
+def used_opacity(win: np.ndarray, shown: np.ndarray, background: np.ndarray) -> np.ndarray:
+    """The opacity the window was drawn with, from colour + (1 - a) background."""
+    return 1 - ((win - shown) / background).mean(-1)
+
+
+def test_one_frame_is_drawn_with_the_mixed_opacity() -> None:
     background = np.array([0.2, 0.4, 0.6])
     window, mapper, _ = make_scene(tuple(background))
     window.Render()
     assert mapper.GetAccumulatedFrames() == 1
     shown = get_pass(mapper, "Converged").astype(np.float64)
-    alpha = get_pass(mapper, "Alpha")[..., 0]
+    alpha = get_pass(mapper, "Alpha")[..., 0].astype(np.float64)
     denoised_alpha = get_pass(mapper, "DenoisedAlpha")[..., 0].astype(np.float64)
-    assert np.array_equal(shown, get_pass(mapper, "Denoised")), "one frame: Converged = Denoised"
     assert set(np.unique(alpha)) <= {0.0, 1.0}
     assert 0.0 <= denoised_alpha.min() and denoised_alpha.max() <= 1.0
     # The case that was drawn wrong: pixels with colour whose ray met no event.
@@ -51,15 +69,15 @@ def test_one_frame_is_drawn_with_denoised_alpha() -> None:
     assert lit.sum() >= 20, f"the scene should have translucent misses ({lit.sum()})"
 
     win = read_window(window)
-    drawn = denoised_alpha > 0
-    expected = np.clip(shown + (1 - denoised_alpha[..., None]) * background, 0, 1)
-    error = np.abs(win - expected)[drawn]
-    assert error.max() <= 1.5 * LSB, f"window vs colour + (1 - DenoisedAlpha) bg: {error.max()}"
-    assert np.abs(win[~drawn] - background).max() <= 1.5 * LSB, "opacity 0: the background"
+    lo, hi = opacity_bounds(alpha, denoised_alpha, background)
+    inside = (shown + background < 1 - 2 * LSB).all(-1) & (np.maximum(alpha, denoised_alpha) > 0)
+    used = used_opacity(win, shown, background)
+    assert ((used >= lo) & (used <= hi))[inside].all(), "opacity outside the mix's candidates"
+    nothing = (alpha == 0) & (denoised_alpha == 0)
+    assert np.abs(win[nothing] - background).max() <= 1.5 * LSB, "opacity 0: the background"
     # Drawn with the frame's Alpha those pixels would show the background alone.
     moved = np.abs(win[lit] - background).max(-1)
     assert moved.mean() > 3 * LSB, f"colour where the frame's ray met nothing: {moved.mean()}"
-
 
 
 def test_denoised_alpha_is_alpha_through_the_finest_grid_level() -> None:
@@ -94,21 +112,19 @@ def test_denoised_alpha_is_alpha_through_the_finest_grid_level() -> None:
     assert np.abs(got - alpha[..., 0]).max() > 0.1, "the grid smooths the 0/1 coverage"
 
 
-def test_converged_is_drawn_between_alpha_and_denoised_alpha() -> None:
+def test_converged_is_drawn_with_the_mix_of_alpha_and_denoised_alpha() -> None:
     background = np.array([0.5, 0.5, 0.5])
     window, mapper, _ = make_scene(tuple(background))
-    for _ in range(12):  # past the 8 frames from which Converged blends in the raw mean
+    for _ in range(12):
         window.Render()
     assert mapper.GetAccumulatedFrames() == 12
     shown = get_pass(mapper, "Converged").astype(np.float64)
     alpha = get_pass(mapper, "Alpha")[..., 0].astype(np.float64)
     denoised_alpha = get_pass(mapper, "DenoisedAlpha")[..., 0].astype(np.float64)
     win = read_window(window)
-    # The opacity the window used, from colour + (1 - a) background on the unclipped pixels.
     inside = (shown + background < 1 - 2 * LSB).all(-1) & (np.maximum(alpha, denoised_alpha) > 0)
-    used = 1 - ((win - shown) / background).mean(-1)
-    lo = np.minimum(alpha, denoised_alpha) - 3 * LSB / background.min()
-    hi = np.maximum(alpha, denoised_alpha) + 3 * LSB / background.min()
+    used = used_opacity(win, shown, background)
+    lo, hi = opacity_bounds(alpha, denoised_alpha, background)
     assert inside.sum() > 100
     assert ((used >= lo) & (used <= hi))[inside].all()
     assert np.abs(used - alpha)[inside].max() > 0.05, "not just the accumulated Alpha"
