@@ -80,7 +80,8 @@ int VarianceBox(int count)
 }
 
 /// @a map (width x height pixels of @a channels interleaved floats) box-filtered in place over
-/// size x size pixels, edges clamped.
+/// size x size pixels, edges clamped: rows, then columns as running sums of whole rows (each
+/// band of rows starts its own sum), both cache-friendly and in parallel.
 void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int height,
   int channels, int size, int threads)
 {
@@ -90,49 +91,88 @@ void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int he
   }
   const int r = size / 2;
   const float norm = 1.0f / static_cast<float>(size);
+  const std::size_t stride = static_cast<std::size_t>(width) * channels; // floats per row
   scratch.resize(map.size());
-  // One line per (row or column, channel): @a length values @a along apart.
-  auto pass = [&](const float* in, float* out, int lines, int length, std::ptrdiff_t along,
-                std::ptrdiff_t across)
-  {
-    ParallelFor(threads, 0, lines * channels, 0,
-      [&](int begin, int end)
+  const float* in = map.data();
+  float* rows = scratch.data();
+  ParallelFor(threads, 0, height, 8,
+    [&](int y0, int y1)
+    {
+      for (int y = y0; y < y1; ++y)
       {
-        for (int id = begin; id < end; ++id)
+        for (int c = 0; c < channels; ++c)
         {
-          const int line = id / channels;
-          const int c = id % channels;
-          const float* src = in + line * across + c;
-          float* dst = out + line * across + c;
-          auto at = [&](int i) { return src[std::min(std::max(i, 0), length - 1) * along]; };
+          const float* src = in + y * stride + c;
+          float* dst = rows + y * stride + c;
+          auto at = [&](int i)
+          { return src[static_cast<std::size_t>(std::min(std::max(i, 0), width - 1)) * channels]; };
           double sum = 0.0;
           for (int i = -r; i <= r; ++i)
           {
             sum += at(i);
           }
-          for (int i = 0; i < length; ++i)
+          for (int x = 0; x < width; ++x)
           {
-            dst[i * along] = static_cast<float>(sum) * norm;
-            sum += at(i + r + 1) - at(i - r);
+            dst[static_cast<std::size_t>(x) * channels] = static_cast<float>(sum) * norm;
+            sum += at(x + r + 1) - at(x - r);
           }
         }
-      });
-  };
-  const std::ptrdiff_t c = channels;
-  pass(map.data(), scratch.data(), height, width, c, c * width); // rows
-  pass(scratch.data(), map.data(), width, height, c * width, c); // columns
+      }
+    });
+  float* out = map.data();
+  ParallelFor(threads, 0, height, 16,
+    [&](int y0, int y1)
+    {
+      std::vector<double> sum(stride, 0.0);
+      auto row = [&](int y) { return rows + std::min(std::max(y, 0), height - 1) * stride; };
+      for (int i = y0 - r; i <= y0 + r; ++i)
+      {
+        const float* src = row(i);
+        for (std::size_t j = 0; j < stride; ++j)
+        {
+          sum[j] += src[j];
+        }
+      }
+      for (int y = y0; y < y1; ++y)
+      {
+        float* dst = out + y * stride;
+        const float* add = row(y + r + 1);
+        const float* drop = row(y - r);
+        for (std::size_t j = 0; j < stride; ++j)
+        {
+          dst[j] = static_cast<float>(sum[j]) * norm;
+          sum[j] += static_cast<double>(add[j]) - drop[j];
+        }
+      }
+    });
 }
 
-/// log(x) for x > 0 to about 1e-5 absolute: the exponent plus a polynomial in the mantissa
+/// exp(x) for x <= 0 to about 2e-5 relative (the softmax's; std::exp four times a pixel was a
+/// tenth of the blend): 2^(x log2 e), the fraction's power by its Taylor polynomial of degree 6.
+/// Branch-free, so that loops over it vectorise.
+inline float FastExp(float x)
+{
+  x = std::max(x, -80.0f);
+  const float t = x * 1.44269504f;
+  float whole = static_cast<float>(static_cast<int>(t)); // towards 0; for t < 0 one less:
+  whole -= static_cast<float>(t < whole);                // floor
+  const float f = t - whole;                             // [0, 1)
+  const float p = 1.0f +
+    f * (0.693147181f +
+          f * (0.240226507f +
+                f * (0.0555041087f + f * (0.00961812911f + f * (0.00133335581f + f * 0.000154035304f)))));
+  const std::uint32_t bits = __builtin_bit_cast(std::uint32_t, p) +
+    (static_cast<std::uint32_t>(static_cast<int>(whole)) << 23);
+  return __builtin_bit_cast(float, bits);
+}
+
+/// log(x) for x > 0 to about 1e-5 absolute: the exponent plus a series in the mantissa
 /// (features only; std::log five times a pixel cost more than the rest of the blend).
 inline float FastLog(float x)
 {
-  std::uint32_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
+  const std::uint32_t bits = __builtin_bit_cast(std::uint32_t, x);
   const int exponent = static_cast<int>((bits >> 23) & 0xFF) - 127;
-  bits = (bits & 0x007FFFFFu) | 0x3F800000u; // mantissa in [1, 2)
-  float m;
-  std::memcpy(&m, &bits, sizeof m);
+  const float m = __builtin_bit_cast(float, (bits & 0x007FFFFFu) | 0x3F800000u); // [1, 2)
   // log(m) on [1, 2) via t = (m - 1) / (m + 1): log m = 2 (t + t^3/3 + t^5/5 + t^7/7 + t^9/9)
   const float t = (m - 1.0f) / (m + 1.0f);
   const float t2 = t * t;
@@ -144,40 +184,72 @@ inline float FastLog(float x)
 /// Added inside each log feature (converge_blend.py's EPS).
 constexpr float kLogOffset = 1e-8f;
 
-/// The blend's softmax weights of its four candidates from the features @a phi.
-inline void BlendWeights(const float* phi, float* w)
+/// Pixels the blend's network runs on at once: feature-major blocks the compiler vectorises.
+constexpr int kBlock = 64;
+
+/// The blend's softmax weights of its four candidates for @a count (<= kBlock) pixels from their
+/// features @a phi (kInputs rows of kBlock) into @a w (kCandidates rows of kBlock).
+inline void BlendWeights(const float (*phi)[kBlock], int count, float (*w)[kBlock])
 {
-  float hidden[blend::kHidden];
+  float hidden[blend::kHidden][kBlock];
   for (int h = 0; h < blend::kHidden; ++h)
   {
-    float a = blend::kB1[h];
+    for (int b = 0; b < count; ++b)
+    {
+      hidden[h][b] = blend::kB1[h];
+    }
     for (int i = 0; i < blend::kInputs; ++i)
     {
-      a += blend::kW1[h * blend::kInputs + i] * phi[i];
+      const float weight = blend::kW1[h * blend::kInputs + i];
+      for (int b = 0; b < count; ++b)
+      {
+        hidden[h][b] += weight * phi[i][b];
+      }
     }
-    hidden[h] = std::max(a, 0.0f);
+    for (int b = 0; b < count; ++b)
+    {
+      hidden[h][b] = std::max(hidden[h][b], 0.0f);
+    }
   }
-  float logits[blend::kCandidates];
-  float top = -3.4e38f;
   for (int j = 0; j < blend::kCandidates; ++j)
   {
-    float a = blend::kB2[j];
+    for (int b = 0; b < count; ++b)
+    {
+      w[j][b] = blend::kB2[j];
+    }
     for (int h = 0; h < blend::kHidden; ++h)
     {
-      a += blend::kW2[j * blend::kHidden + h] * hidden[h];
+      const float weight = blend::kW2[j * blend::kHidden + h];
+      for (int b = 0; b < count; ++b)
+      {
+        w[j][b] += weight * hidden[h][b];
+      }
     }
-    logits[j] = a;
-    top = std::max(top, a);
   }
-  float sum = 0.0f;
-  for (int j = 0; j < blend::kCandidates; ++j)
+  float top[kBlock], sum[kBlock];
+  for (int b = 0; b < count; ++b)
   {
-    w[j] = std::exp(logits[j] - top);
-    sum += w[j];
+    top[b] = std::max(std::max(w[0][b], w[1][b]), std::max(w[2][b], w[3][b]));
   }
   for (int j = 0; j < blend::kCandidates; ++j)
   {
-    w[j] /= sum;
+    float* row = w[j];
+    for (int b = 0; b < count; ++b)
+    {
+      row[b] = FastExp(row[b] - top[b]);
+    }
+  }
+  for (int b = 0; b < count; ++b)
+  {
+    sum[b] = 1.0f / (w[0][b] + w[1][b] + w[2][b] + w[3][b]);
+  }
+  for (int j = 0; j < blend::kCandidates; ++j)
+  {
+    float* row = w[j];
+    for (int b = 0; b < count; ++b)
+    {
+      row[b] *= sum[b];
+    }
   }
 }
 
@@ -246,7 +318,8 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
 }
 
 //------------------------------------------------------------------------------
-double Convergence::Combine(const float* denoised, int count, float* shown, int threads)
+double Convergence::Combine(
+  const float* denoised, int count, float* shown, int threads, bool estimate)
 {
   const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
   this->Weights.clear(); // BlendAlpha: the denoised alpha unless set below
@@ -257,7 +330,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
   const int k = count;
   const ToneTable& g = Tone();
   const float* mean = this->Mean.data();
-  if (k >= 2)
+  if (k >= 2 && estimate)
   {
     // The raw mean's error from the two half accumulations (the still render's estimate).
     this->HalfVariance.resize(n);
@@ -286,7 +359,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
   }
   if (!denoised)
   {
-    if (k < 2)
+    if (k < 2 || !estimate)
     {
       return 0.0;
     }
@@ -298,7 +371,7 @@ double Convergence::Combine(const float* denoised, int count, float* shown, int 
     return ToPsnr(sum / static_cast<double>(n));
   }
   this->Blend(denoised, k, shown, threads);
-  if (k < 2)
+  if (k < 2 || !estimate)
   {
     return 0.0; // one frame: no estimate of the mean's error
   }
@@ -343,19 +416,24 @@ void Convergence::Blend(const float* denoised, int k, float* shown, int threads)
   // distance of the denoised image from the mean, tone-mapped; the residual M - D.
   this->Variance.resize(n);
   this->Distance.resize(n);
+  this->ToneMean.resize(n);
+  this->ToneDenoised.resize(n);
   this->Residual3.resize(3 * n);
   ParallelFor(threads, std::size_t(0), n, std::size_t(0),
     [&](std::size_t begin, std::size_t end)
     {
       for (std::size_t p = begin; p < end; ++p)
       {
-        float v = 0.0f, e = 0.0f;
+        float v = 0.0f, e = 0.0f, tm = 0.0f, td = 0.0f;
         for (int c = 0; c < 3; ++c)
         {
           const std::size_t i = 3 * p + c;
           const float m = mean[i];
-          const float diff = g(denoised[i]) - g(m);
+          const float gm = g(m), gd = g(denoised[i]);
+          const float diff = gd - gm;
           e += diff * diff;
+          tm += std::min(gm, 1.0f);
+          td += std::min(gd, 1.0f);
           if (k >= 2)
           {
             const float slope = ToneSlope(g, m);
@@ -365,6 +443,8 @@ void Convergence::Blend(const float* denoised, int k, float* shown, int threads)
         }
         this->Variance[p] = v / 3.0f;
         this->Distance[p] = e / 3.0f;
+        this->ToneMean[p] = tm / 3.0f;
+        this->ToneDenoised[p] = td / 3.0f;
       }
     });
   this->VarianceBoxed = this->Variance;
@@ -381,34 +461,50 @@ void Convergence::Blend(const float* denoised, int k, float* shown, int threads)
   const float logK = std::log(static_cast<float>(k));
   const float handOver = HandOver(k);
   const float first = k == 1 ? 1.0f : 0.0f;
-  ParallelFor(threads, std::size_t(0), n, std::size_t(0),
+  const float* features[5] = { this->VarianceBoxed.data(), this->Variance.data(),
+    this->Distance.data(), this->Distance3.data(), this->Distance7.data() };
+  ParallelFor(threads, std::size_t(0), n, std::size_t(kBlock),
     [&](std::size_t begin, std::size_t end)
     {
-      for (std::size_t p = begin; p < end; ++p)
+      float phi[blend::kInputs][kBlock];
+      float w[blend::kCandidates][kBlock];
+      for (std::size_t p0 = begin; p0 < end; p0 += kBlock)
       {
-        float tm = 0.0f, td = 0.0f;
-        for (int c = 0; c < 3; ++c)
+        const int count = static_cast<int>(std::min<std::size_t>(kBlock, end - p0));
+        for (int f = 0; f < 5; ++f) // logs of the variances and distances
         {
-          tm += std::min(g(mean[3 * p + c]), 1.0f);
-          td += std::min(g(denoised[3 * p + c]), 1.0f);
+          const float* src = features[f] + p0;
+          float* dst = phi[f];
+          for (int b = 0; b < count; ++b)
+          {
+            const float x = src[b];
+            dst[b] = FastLog((x > 0.0f ? x : 0.0f) + kLogOffset);
+          }
         }
-        const float phi[blend::kInputs] = { FastLog(std::max(this->VarianceBoxed[p], 0.0f) + kLogOffset),
-          FastLog(std::max(this->Variance[p], 0.0f) + kLogOffset), FastLog(std::max(this->Distance[p], 0.0f) + kLogOffset),
-          FastLog(std::max(this->Distance3[p], 0.0f) + kLogOffset), FastLog(std::max(this->Distance7[p], 0.0f) + kLogOffset),
-          logK, first, tm / 3.0f, td / 3.0f };
-        float* w = &this->Weights[blend::kCandidates * p];
-        BlendWeights(phi, w);
-        for (int j = 0; j < 3; ++j) // beyond the trained counts: towards the raw mean
+        for (int b = 0; b < count; ++b)
         {
-          w[3] += handOver * w[j];
-          w[j] *= 1.0f - handOver;
+          phi[5][b] = logK;
+          phi[6][b] = first;
+          phi[7][b] = this->ToneMean[p0 + b];
+          phi[8][b] = this->ToneDenoised[p0 + b];
         }
-        for (int c = 0; c < 3; ++c)
+        BlendWeights(phi, count, w);
+        for (int b = 0; b < count; ++b)
         {
-          const std::size_t i = 3 * p + c;
-          shown[i] = std::max(denoised[i] + w[1] * this->Residual3[i] +
-              w[2] * this->Residual7[i] + w[3] * (mean[i] - denoised[i]),
-            0.0f); // the residual boxes can undershoot next to a dark pixel
+          const std::size_t p = p0 + b;
+          float* out = &this->Weights[blend::kCandidates * p];
+          for (int j = 0; j < blend::kCandidates; ++j)
+          {
+            // Beyond the trained counts the weights move towards the raw mean.
+            out[j] = j < 3 ? w[j][b] * (1.0f - handOver) : w[3][b] + handOver * (1.0f - w[3][b]);
+          }
+          for (int c = 0; c < 3; ++c)
+          {
+            const std::size_t i = 3 * p + c;
+            shown[i] = std::max(denoised[i] + out[1] * this->Residual3[i] +
+                out[2] * this->Residual7[i] + out[3] * (mean[i] - denoised[i]),
+              0.0f); // the residual boxes can undershoot next to a dark pixel
+          }
         }
       }
     });

@@ -48,9 +48,10 @@ public:
    * Denoise off, the accumulation is shown) into @a shown (3 floats per pixel; may be nullptr
    * when @a denoised is). Returns the estimated PSNR in dB of the mean, or of what is shown with
    * a denoiser (tone-mapped, like docs/measuring.md); 0 when not known (fewer than 2 frames, or
-   * halves that agree exactly: nothing met yet says how much is still to meet).
+   * halves that agree exactly: nothing met yet says how much is still to meet) or not asked for
+   * (@a estimate off: the image alone, a third cheaper).
    */
-  double Combine(const float* denoised, int count, float* shown, int threads);
+  double Combine(const float* denoised, int count, float* shown, int threads, bool estimate = true);
 
   /**
    * The opacity to draw the last Combine's shown image with: per pixel the same mix of the
@@ -72,6 +73,7 @@ private:
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
   std::vector<float> Variance, VarianceBoxed, Distance, Distance3, Distance7; ///< features
+  std::vector<float> ToneMean, ToneDenoised; ///< features: tone-mapped luminance of M and D
   std::vector<float> Residual3, Residual7; ///< box3 and box7 of M - D (of the alpha: BlendAlpha)
   std::vector<float> HalfVariance, Error, Scratch;
   std::vector<float> Weights; ///< the last Combine's 4 weights per pixel (D, box3, box7, M)

@@ -514,14 +514,18 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
     return;
   }
   const bool denoised = request.Denoise && this->DenoiseFrame(request, messages);
-  if (this->CombinedValid && this->CombinedWithDenoiser == denoised)
+  // Only still renders need the estimate (their stopping rule): interactive frames skip it.
+  const bool estimate = request.Still;
+  if (this->CombinedValid && this->CombinedWithDenoiser == denoised &&
+    (this->CombinedWithEstimate || !estimate))
   {
     return;
   }
   PassBuffers& acc = this->Accumulated;
   this->EstimatedQuality = this->Converging.Combine(denoised ? acc.Data(PassDenoised) : nullptr,
-    this->AccumulatedFrames,
-    denoised ? acc.Data(PassConverged) : nullptr, request.Threads);
+    this->AccumulatedFrames, denoised ? acc.Data(PassConverged) : nullptr, request.Threads,
+    estimate);
+  this->CombinedWithEstimate = estimate;
   if (denoised)
   {
     const std::size_t n =

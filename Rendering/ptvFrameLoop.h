@@ -198,6 +198,7 @@ private:
   bool StillConverged = false;
   bool CombinedValid = false; ///< PassConverged and EstimatedQuality match the passes
   bool CombinedWithDenoiser = false;
+  bool CombinedWithEstimate = false; ///< the last Combine estimated its error (still renders)
   bool LastRenderTraced = false;
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;

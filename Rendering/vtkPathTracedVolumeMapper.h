@@ -28,7 +28,7 @@
  * ComputeFootprint; else 1). Depth is the world distance from the eye; misses have
  * depth = camera far distance, position 0, normal 0. With Denoise on, the denoiser (see
  * vtkPTVDenoiser) adds "Denoised" (shown by default), "Guides" and "BlendWeights", computed from
- * the accumulated passes after each traced frame, and "Converged" (the denoised image faded into
+ * the accumulated passes after each traced frame, and "Converged" (the denoised image mixed with
  * the raw mean as samples accumulate). "HistoryLength" is the number of frames in each pixel's
  * accumulated mean (after a camera move: reprojected history, at most MaximumHistory, plus the
  * frames of the new view). "DenoisedAlpha" is the Alpha pass through the finest level of the
@@ -155,8 +155,10 @@ public:
 
   /**
    * Estimated PSNR in dB (tone-mapped) of the image shown by the last render against the
-   * converged image; 0 before 2 frames. With Denoise on it rates the converged image (the
-   * denoised image faded into the raw mean by their estimated errors: pass "Converged").
+   * converged image, estimated by still renders; 0 after an interactive render, before 2 frames,
+   * or while every sample so far agrees (not known). With
+   * Denoise on it rates the shown image (the denoised image mixed with the raw mean: pass
+   * "Converged").
    */
   vtkGetMacro(EstimatedQuality, double);
 
@@ -354,8 +356,8 @@ public:
 
   ///@{
   /**
-   * Denoise the accumulated image with the neural bilateral grid and show the result (faded
-   * into the raw mean as samples accumulate: pass "Converged"). Default on. Without a usable model the denoiser uses a fixed guide and warns once.
+   * Denoise the accumulated image with the neural bilateral grid and show the result (mixed
+   * with the raw mean as samples accumulate: pass "Converged"). Default on. Without a usable model the denoiser uses a fixed guide and warns once.
    */
   vtkSetMacro(Denoise, bool);
   vtkGetMacro(Denoise, bool);
@@ -481,8 +483,8 @@ public:
 
   ///@{
   /**
-   * Pass shown in the render window; empty (default) shows "Converged" (the denoised image faded
-   * into the raw mean) when Denoise is on, else "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
+   * Pass shown in the render window; empty (default) shows "Converged" (the denoised image mixed
+   * with the raw mean) when Denoise is on, else "Radiance". Normals are shown as (n+1)/2, positions normalised to the volume's bounds,
    * depths to the range of hits (near = bright).
    */
   vtkSetStringMacro(DisplayPass);
