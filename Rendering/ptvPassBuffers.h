@@ -30,7 +30,7 @@ enum PassId
   PassDenoised,     ///< produced by the denoiser from the traced passes (not accumulated)
   PassGuides,       ///< its guides, one level per component (unused levels 0)
   PassBlendWeights, ///< its blend weights (unused 0)
-  PassConverged,    ///< Denoised faded into Radiance by their estimated errors (ptvConvergence)
+  PassConverged,    ///< Denoised mixed with Radiance per pixel by a learned blend (ptvConvergence)
   PassHistoryLength, ///< frames in each pixel's accumulated mean (ptvReprojection; capped history)
   PassDenoisedAlpha, ///< Alpha through the denoiser's grid: the opacity Denoised is drawn with
   PassSampleRatio,   ///< each pixel's samples per frame over a plain pixel's (EdgeSamples; 1)

@@ -12,6 +12,9 @@ in the same run), one module each in the package ``evaluation/`` beside this scr
    normal) on the same 1-spp passes, against a --ref-spp reference of an independent seed
    (convergence: ref/2 vs ref).                                  (evaluation/table1.py)
 2. PSNR against time per dataset and the quality-matched speed-up. (evaluation/table1.py)
+2b. Quality against samples: the mapper's own accumulation of the Table-1 view (raw, Denoised,
+   shown, OIDN fast and balanced on the same accumulation) at 1..256 frames, 256² and 512², and
+   the frames each needs to reach 30/35/40 dB.                    (evaluation/samples.py)
 3. Paper Tables 2-4 from the committed training studies (Training/results/), when present.
                                                                   (evaluation/training.py)
 4. Temporal stability: per-pixel std over frames of different seeds (fixed view), the mapper's

@@ -14,7 +14,7 @@ Every section module has the same three functions:
 Modules: :mod:`.common` (options, constants, CSV/JSON/Markdown helpers, machine info, the output
 folder and thumbnails), :mod:`.scenes` (volumes, scenes, the traced-image cache, the shared
 measuring context), :mod:`.table1` (sections 1 and 2: Table 1, PSNR against time, the
-quality-matched speed-up), :mod:`.training` (3), :mod:`.temporal` (4, with "Camera motion with
+quality-matched speed-up), :mod:`.samples` (2b: quality against samples, the mapper's own accumulation), :mod:`.training` (3), :mod:`.temporal` (4, with "Camera motion with
 temporal reuse"), :mod:`.stress` (5), :mod:`.timing` (6) and :mod:`.report` (the header, the
 summary, the measuring run and ``--render-only``).
 """

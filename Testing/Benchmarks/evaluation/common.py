@@ -31,7 +31,7 @@ VIEWS = ((30.0, 10.0), (150.0, -20.0), (260.0, 35.0), (330.0, -5.0))  # (azimuth
 SEED_INPUT = 1          # the 1-spp input and the spp sweep (its first N frames)
 SEED_REFERENCE = 100003  # the reference: an independent random stream
 STRESS_METHODS = ("noisy", "ours", "OIDN fast", "ours, fixed guide", "ours, no clamp")
-SECTIONS = ("table1", "training", "temporal", "stress", "timing")
+SECTIONS = ("table1", "samples", "training", "temporal", "stress", "timing")
 NOT_STORED = ("render_only",)  # options of this run only, not part of results.json "args"
 
 
@@ -52,6 +52,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threads", type=int, default=0, help="tracer/denoiser threads (0 = all)")
     p.add_argument("--edge-samples", type=int, default=0,
                    help="EdgeSamples of the denoisers' frames (0 = the mapper's default)")
+    p.add_argument("--samples-sizes", type=int, nargs="+", default=[256, 512],
+                   help="image sizes of the quality-against-samples section")
+    p.add_argument("--samples-frames", type=int, default=256,
+                   help="frames the quality-against-samples section accumulates")
     p.add_argument("--static-frames", type=int, default=16, help="seeds of the fixed view")
     p.add_argument("--orbit-frames", type=int, default=36, help="frames of the camera orbit")
     p.add_argument("--orbit-step", type=float, default=2.0, help="orbit degrees per frame")
@@ -86,7 +90,7 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
         quick = dict(size=24, views=1, ref_spp=32, sweep=[1, 2, 4, 8], repeats=1,
                      static_frames=4, orbit_frames=4, orbit_ref_spp=4, stress_size=16,
                      stress_ref_spp=16, big_size="64x36", big_ref_spp=4, scaling_sizes=[16, 32],
-                     volume_shrink=[1, 4])
+                     volume_shrink=[1, 4], samples_sizes=[24], samples_frames=4)
         for key, value in quick.items():
             if getattr(args, key) == p.get_default(key):
                 setattr(args, key, value)

@@ -20,11 +20,11 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any, Dict, List, Mapping, Sequence
 
-from . import stress, table1, temporal, timing, training
+from . import samples, stress, table1, temporal, timing, training
 from .common import (SECTIONS, Output, decode_args, fmt, machine_info, missing_keys, num,
                      stored_args, write_json, write_text)
 
-MODULES: Dict[str, ModuleType] = {"table1": table1, "training": training,
+MODULES: Dict[str, ModuleType] = {"table1": table1, "samples": samples, "training": training,
                                   "temporal": temporal, "stress": stress, "timing": timing}
 HEADER_KEYS = ("command", "machine", "args", "elapsed_s", "load", "denoiser_status",
                "run.generated_utc", "run.tracer_fingerprint", "run.cache_hits",
