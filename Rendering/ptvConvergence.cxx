@@ -157,10 +157,8 @@ inline float FastExp(float x)
   float whole = static_cast<float>(static_cast<int>(t)); // towards 0; for t < 0 one less:
   whole -= static_cast<float>(t < whole);                // floor
   const float f = t - whole;                             // [0, 1)
-  const float p = 1.0f +
-    f * (0.693147181f +
-          f * (0.240226507f +
-                f * (0.0555041087f + f * (0.00961812911f + f * (0.00133335581f + f * 0.000154035304f)))));
+  const float high = 0.00961812911f + f * (0.00133335581f + f * 0.000154035304f);
+  const float p = 1.0f + f * (0.693147181f + f * (0.240226507f + f * (0.0555041087f + f * high)));
   const std::uint32_t bits = __builtin_bit_cast(std::uint32_t, p) +
     (static_cast<std::uint32_t>(static_cast<int>(whole)) << 23);
   return __builtin_bit_cast(float, bits);

@@ -35,14 +35,12 @@ def test_converged_pass_is_the_trained_blend() -> None:
     mapper.SetSeed(3)
     mapper.SetMaximumAccumulatedFrames(FRAMES)
     mapper.ResetAccumulation()
-    previous = second = None
+    moments = cb.SecondMoment()
     checked = 0
     for k in range(1, FRAMES + 1):
         scene.render(1)
         mean = scene.get_pass("Radiance").astype(np.float64)
-        frame = mean if k == 1 else k * mean - (k - 1) * previous
-        second = frame * frame if k == 1 else second + (frame * frame - second) / k
-        previous = mean
+        second = moments.add(mean)
         if k not in (1, 2, 3, 8):
             continue
         denoised = scene.get_pass("Denoised")

@@ -108,7 +108,8 @@ def _two_volumes(order: str, stock: bool = False) -> np.ndarray:
     renderer = vtkRenderer()
     renderer.SetBackground(0.0, 0.0, 0.0)
     volumes = []
-    for shift, colour in (((0.0, 0.0, 12.0), (1.0, 0.3, 0.2)), ((8.0, 6.0, -12.0), (0.2, 0.4, 1.0))):
+    for shift, colour in (((0.0, 0.0, 12.0), (1.0, 0.3, 0.2)),
+                          ((8.0, 6.0, -12.0), (0.2, 0.4, 1.0))):
         source = vtkRTAnalyticSource()
         source.SetWholeExtent(-10, 10, -10, 10, -10, 10)
         source.Update()
@@ -242,7 +243,8 @@ def test_offset_and_tiny_range_scalars_render_like_the_plain_ones() -> None:
     lo, hi = 37.0, 277.0
     plain = _silhouette(base, lo, hi)
     stock = _silhouette(base, lo, hi, stock=True)
-    print(f"plain: {plain.sum()} pixels drawn, agreement with the stock mapper {(plain == stock).mean():.3f}")
+    print(f"plain: {plain.sum()} pixels drawn, agreement with the stock mapper "
+          f"{(plain == stock).mean():.3f}")
     assert plain.sum() > 100 and (plain == stock).mean() > 0.9
     cases = {"int64 1e10 +": ((base + 1e10).astype(np.int64), 1e10 + lo, 1e10 + hi),
              "double 1e9 +": (base + 1e9, 1e9 + lo, 1e9 + hi),

@@ -29,11 +29,10 @@ Commands (rendering needs ``PYTHONPATH=build/python`` and a display, e.g. ``xvfb
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -137,6 +136,25 @@ def hand_over(count: int) -> float:
 
 
 # --- data ---------------------------------------------------------------------------------
+class SecondMoment:
+    """The frames' second moment rebuilt from the Radiance pass read after each frame (the
+    running mean M_k): frame k is k M_k - (k - 1) M_k-1."""
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.previous: Optional[np.ndarray] = None
+        self.value: Optional[np.ndarray] = None
+
+    def add(self, mean: np.ndarray) -> np.ndarray:
+        """Take the mean after the next frame (float64 (H, W, 3)); returns the second moment."""
+        self.count += 1
+        k = self.count
+        frame = mean if k == 1 else k * mean - (k - 1) * self.previous
+        self.value = frame * frame if k == 1 else self.value + (frame * frame - self.value) / k
+        self.previous = mean
+        return self.value
+
+
 def capture_view(scene, view: Dict, frames: int, reference_spp: int) -> Dict[str, np.ndarray]:
     """One view's reference and, at each power of two up to ``frames``, its mean, second moment
     and denoised image (the mapper's defaults, Denoise on)."""
@@ -146,13 +164,11 @@ def capture_view(scene, view: Dict, frames: int, reference_spp: int) -> Dict[str
     scene.render(max(reference_spp // 16, 1))
     data = {"reference": scene.get_pass("Radiance")}
     scene.set_view(view, seed=view["input_seed"], denoise=True, max_frames=frames)
-    previous = second = None
+    moments = SecondMoment()
     for k in range(1, frames + 1):
         scene.render(1)
         mean = scene.get_pass("Radiance").astype(np.float64)
-        frame = mean if k == 1 else k * mean - (k - 1) * previous
-        second = frame * frame if k == 1 else second + (frame * frame - second) / k
-        previous = mean
+        second = moments.add(mean)
         if k & (k - 1) == 0:
             data[f"mean{k}"] = mean.astype(np.float32)
             data[f"second{k}"] = second.astype(np.float32)
