@@ -296,7 +296,7 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
   }
   if (this->AccumulatedFrames == 0)
   {
-    vtkErrorMacro(<< "Pass '" << name << "' is not available: " << this->NoFrameReason());
+    vtkErrorMacro(<< "Pass '" << name << "' is not available" << this->NoFrameReason());
     return false;
   }
   if (ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid())
@@ -324,9 +324,8 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
 //------------------------------------------------------------------------------
 const char* vtkPathTracedVolumeMapper::NoFrameReason() const
 {
-  return this->RenderFailed
-    ? "the last render traced no frame (see the error it reported)."
-    : "nothing has been rendered yet.";
+  return this->RenderFailed ? ": the last render traced no frame (see the error it reported)."
+                            : " before the first render.";
 }
 
 //------------------------------------------------------------------------------
@@ -339,7 +338,7 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   }
   if (this->AccumulatedFrames == 0)
   {
-    vtkErrorMacro(<< "Passes are not available: " << this->NoFrameReason());
+    vtkErrorMacro(<< "Passes are not available" << this->NoFrameReason());
     return false;
   }
   const ptv::PassBuffers& acc = this->Internals->Loop.GetPasses();
