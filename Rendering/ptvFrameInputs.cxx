@@ -2,16 +2,14 @@
 
 #include "Kernels/ptvOccupancy.h"
 #include "Kernels/ptvShading.h"
+#include "ptvScalarChannel.h"
 #include "ptvSceneToKernel.h"
 #include "ptvThreads.h"
 
-#include "vtkArrayDispatch.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
-#include "vtkDataArrayRange.h"
 #include "vtkImageData.h"
 #include "vtkPiecewiseFunction.h"
-#include "vtkSMPTools.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -74,111 +72,6 @@ constexpr int kGradientTableSize = 1024;
 // Occupancy bricks of 4^3 voxels: measured against 8^3 (benchmark_tracer.py, 512², 1 thread)
 // 5-8% less trace time on the three datasets; the per-brick ranges cost 8 bytes per 64 voxels.
 constexpr int kBrickSize = 4;
-
-// One component of any numeric array: its finite range in the array's own precision, then its
-// values as float (out[stride * i] = (v - shift) * scale), non-finite ones as NaN ("no data").
-struct ChannelToFloat
-{
-  template <typename ArrayT>
-  void Range(ArrayT* array, int component, double range[2], vtkIdType& nonFinite)
-  {
-    const auto tuples = vtk::DataArrayTupleRange(array);
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    vtkIdType bad = 0;
-    for (const auto tuple : tuples)
-    {
-      const double v = static_cast<double>(tuple[component]);
-      if (!std::isfinite(v))
-      {
-        ++bad;
-        continue;
-      }
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    range[0] = lo;
-    range[1] = hi;
-    nonFinite = bad;
-  }
-
-  template <typename ArrayT>
-  void operator()(ArrayT* array, int component, double shift, double scale, float* out,
-    int stride)
-  {
-    const auto tuples = vtk::DataArrayTupleRange(array);
-    const vtkIdType n = static_cast<vtkIdType>(tuples.size());
-    const bool plain = shift == 0.0 && scale == 1.0;
-    vtkSMPTools::For(0, n,
-      [&](vtkIdType b, vtkIdType e)
-      {
-        for (vtkIdType i = b; i < e; ++i)
-        {
-          const double v = static_cast<double>(tuples[i][component]);
-          const float f = plain ? static_cast<float>(tuples[i][component])
-                                : static_cast<float>((v - shift) * scale);
-          out[stride * i] =
-            std::isfinite(v) && std::isfinite(f) ? f : std::numeric_limits<float>::quiet_NaN();
-        }
-      });
-  }
-};
-
-struct ChannelRange
-{
-  template <typename ArrayT>
-  void operator()(ArrayT* array, int component, double range[2], vtkIdType& nonFinite)
-  {
-    ChannelToFloat().Range(array, component, range, nonFinite);
-  }
-};
-
-// How a channel of finite range @a range is stored as float, (v - shift) * scale: as it is
-// (0, 1) while float holds it to well below the table's resolution; else shifted to start at 0
-// (an offset such as 1e10 + [0, 100] would otherwise round to a few values, or overflow), and
-// scaled to [0, 1] when its span itself is outside float's comfortable range.
-void StoredAs(const double range[2], double& shift, double& scale)
-{
-  shift = 0.0;
-  scale = 1.0;
-  if (!(range[1] >= range[0]))
-  {
-    return; // no finite value
-  }
-  const double span = range[1] - range[0];
-  const double magnitude = std::max(std::abs(range[0]), std::abs(range[1]));
-  const bool tinyOrHuge = span > 0.0 && (span < 1e-30 || span > 1e30);
-  if (magnitude > 1e30 || magnitude > 1000.0 * span || tinyOrHuge)
-  {
-    shift = range[0];
-  }
-  if (tinyOrHuge)
-  {
-    scale = 1.0 / span;
-  }
-}
-
-// Channel @a component of @a array into out (see ChannelToFloat), any array type: its finite
-// range in @a range, how it is stored in @a shift and @a scale.
-void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
-  double range[2], vtkIdType& nonFinite, double& shift, double& scale)
-{
-  ChannelRange ranger;
-  if (!vtkArrayDispatch::Dispatch::Execute(array, ranger, component, range, nonFinite))
-  {
-    ranger(array, component, range, nonFinite); // generic vtkDataArray path
-  }
-  StoredAs(range, shift, scale);
-  if (factor != 1.0f)
-  {
-    shift = 0.0; // RGB colour (factor 1/255): stored as it is, then scaled
-    scale = factor;
-  }
-  ChannelToFloat worker;
-  if (!vtkArrayDispatch::Dispatch::Execute(array, worker, component, shift, scale, out, stride))
-  {
-    worker(array, component, shift, scale, out, stride);
-  }
-}
 
 // The property's colour (or grey) function at kTableSize points over [range[0], range[1]] as RGB.
 void SampleColorFunction(vtkVolumeProperty* property, const double range[2], float* rgb)
