@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <sstream>
 #include <string>
 
 namespace ptv
@@ -587,8 +588,9 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
       next = std::min(cap,
         std::max(k + 1, std::min(static_cast<int>(std::ceil(needed)), (3 * k + 1) / 2)));
     }
-    if (decision == Continue && request.StillTimeBudget > 0.0 &&
-      Now() - start >= request.StillTimeBudget)
+    const bool overBudget =
+      request.StillTimeBudget > 0.0 && Now() - start >= request.StillTimeBudget;
+    if (decision == Continue && overBudget)
     {
       decision = Stop;
     }
@@ -598,6 +600,17 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
     }
     decision = this->Parallel.Agree(decision); // process 0 estimates (it alone denoises)
     if (decision != Continue)
+      if (!this->StillConverged && overBudget && k < cap &&
+        this->ReportedBudget != request.StillTimeBudget)
+      {
+        this->ReportedBudget = request.StillTimeBudget; // said once per budget
+        std::ostringstream text;
+        text << "the still render stopped at its time budget (StillTimeBudget "
+             << request.StillTimeBudget << " s) after " << k << " frames, estimated "
+             << this->EstimatedQuality << " dB of StillQuality " << request.StillQuality
+             << " dB; raise StillTimeBudget (0: no limit) or lower StillQuality for more.";
+        messages.emplace_back(false, text.str());
+      }
     {
       this->StillConverged = decision == Converged;
       break;

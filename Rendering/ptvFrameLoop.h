@@ -77,11 +77,12 @@ struct FrameRequest
   std::string DisplayPass;           ///< "" shows the (converged) radiance
   /// A still render: trace frames until the estimated quality of what is shown reaches
   /// StillQuality (dB), or MaximumStillFrames (also capped by MaximumAccumulatedFrames) are
-  /// accumulated, or StillTimeBudget seconds (> 0) have passed. Otherwise one frame per render.
+  /// accumulated, or StillTimeBudget seconds (> 0) have passed (said once per budget).
+  /// Otherwise one frame per render.
   bool Still = false;
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;
-  double StillTimeBudget = 0.0;
+  double StillTimeBudget = 30.0;
   std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
   /// Asked between a still render's frames: true stops it (the render window's abort check).
   std::function<bool()> Abort;
@@ -196,6 +197,7 @@ private:
   int LastRenderFrames = 0;
   double EstimatedQuality = 0.0;
   bool StillConverged = false;
+  double ReportedBudget = -1.0; ///< the StillTimeBudget whose stop was last reported
   bool CombinedValid = false; ///< PassConverged and EstimatedQuality match the passes
   bool CombinedWithDenoiser = false;
   bool CombinedWithEstimate = false; ///< the last Combine estimated its error (still renders)

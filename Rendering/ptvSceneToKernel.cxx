@@ -307,7 +307,8 @@ void SetLighting(vtkRenderer* ren, const FrameSettings& settings, const double b
     settings.UseBackgroundAsEnvironment ? ren->GetBackground() : settings.EnvironmentColor;
   for (int k = 0; k < 3; ++k)
   {
-    env[k] = envSource[k] * settings.EnvironmentIntensity;
+    // A renderer background is not range-checked by VTK: a non-finite one lights nothing.
+    env[k] = std::isfinite(envSource[k]) ? envSource[k] * settings.EnvironmentIntensity : 0.0;
   }
   p.Environment = ToVec3(env);
   signature.AddExact(env, 3);

@@ -147,7 +147,7 @@ public:
   ///@{
   /**
    * Seconds after which a still render stops tracing even if StillQuality is not reached
-   * (0 = no limit). Default 0, range [0, 1e6].
+   * (0 = no limit; a stop before the target is reported once). Default 30, range [0, 1e6].
    */
   virtual void SetStillTimeBudget(double value); ///< clamped to [0.0, 1e6] with a warning
   vtkGetMacro(StillTimeBudget, double);
@@ -332,10 +332,14 @@ public:
   ///@{
   /**
    * Uniform environment radiance. When UseBackgroundAsEnvironment is on (default) the renderer's
-   * background colour is used instead of EnvironmentColor (default (1,1,1)).
+   * background colour is used instead of EnvironmentColor (default (1,1,1), each in [0, 1]).
    * EnvironmentIntensity scales either. Default 1, range [0, 1e6].
    */
-  vtkSetVector3Macro(EnvironmentColor, double);
+  virtual void SetEnvironmentColor(double r, double g, double b); ///< clamped, with a warning
+  void SetEnvironmentColor(const double rgb[3])
+  {
+    this->SetEnvironmentColor(rgb[0], rgb[1], rgb[2]);
+  }
   vtkGetVector3Macro(EnvironmentColor, double);
   vtkSetMacro(UseBackgroundAsEnvironment, bool);
   vtkGetMacro(UseBackgroundAsEnvironment, bool);

@@ -3,6 +3,7 @@
 // a NaN keeps the current value.
 #include "vtkPathTracedVolumeMapper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <type_traits>
@@ -58,3 +59,19 @@ PTV_CLAMPED_SETTER(EnvironmentIntensity, double, 0.0, 1e6)
 PTV_CLAMPED_SETTER(DenoiserNumberOfLevels, int, 0, 3)
 PTV_CLAMPED_SETTER(NumberOfThreads, int, 0, 1024)
 PTV_CLAMPED_SETTER(Backend, int, BACKEND_AUTO, BACKEND_CUDA)
+
+void vtkPathTracedVolumeMapper::SetEnvironmentColor(double r, double g, double b)
+{
+  const double wanted[3] = { r, g, b };
+  double checked[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    checked[k] = CheckedSetting<double>(
+      this, "EnvironmentColor", wanted[k], this->EnvironmentColor[k], 0.0, 1.0);
+  }
+  if (!std::equal(checked, checked + 3, this->EnvironmentColor))
+  {
+    std::copy(checked, checked + 3, this->EnvironmentColor);
+    this->Modified();
+  }
+}

@@ -112,7 +112,7 @@ public:
    * converge. With InteractiveSession on (set by the GUI's pqPTVProgressiveRefinement) a still
    * render converges only while the view captures an image (vtkPVView::PrepareForScreenshot to
    * CleanupAfterScreenshot); other still renders trace one frame and the idle refinement
-   * continues, so the window never freezes. Defaults: on, 40, 256, 0, off.
+   * continues, so the window never freezes. Defaults: on, 40, 256, 30, off.
    */
   void SetConvergeStillRenders(bool value);
   vtkGetMacro(ConvergeStillRenders, bool);

@@ -87,6 +87,7 @@ def stops(dataset: str, size: int, ref: np.ndarray, ref_mse: float,
         m.DenoiseOn()
         m.ConvergeStillRendersOn()
         m.SetStillQuality(quality)
+        m.SetStillTimeBudget(0.0)  # the quality alone stops it
         m.SetSeed(2)
         start = time.perf_counter()
         scene.window.Render()  # VTK's default desired update rate: a still render

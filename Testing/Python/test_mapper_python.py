@@ -52,7 +52,7 @@ def test_settings_round_trip() -> None:
 DOCUMENTED_DEFAULTS = {
     "SamplesPerFrame": 1, "MaximumAccumulatedFrames": 1024, "TemporalReprojection": True,
     "MaximumHistory": 1, "ConvergeStillRenders": True, "StillQuality": 40.0,
-    "MaximumStillFrames": 256, "StillTimeBudget": 0.0, "Seed": 0, "Scattering": True,
+    "MaximumStillFrames": 256, "StillTimeBudget": 30.0, "Seed": 0, "Scattering": True,
     "ComputeCoverage": False, "ExpectedCoverage": False, "KeepEdgeMeans": False,
     "ComputeFootprint": False,
     "EdgeSamples": 3, "ComputeEdgeSamples": False, "AmbientOcclusion": True,
