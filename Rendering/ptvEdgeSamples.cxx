@@ -66,23 +66,6 @@ std::vector<float> LatticeOffsets(int count)
   return out;
 }
 
-/// kEdgeHigh, or the study switch PTV_EDGE_HIGH (a value in (kEdgeLow, 1]; docs/edge-samples.md).
-float EdgeHigh()
-{
-  const char* value = std::getenv("PTV_EDGE_HIGH");
-  const float v = value ? static_cast<float>(std::atof(value)) : 0.f;
-  return v > kEdgeLow && v <= 1.f ? v : kEdgeHigh;
-}
-
-/// The neighbourhood's half width: 1 (3x3), or the study switch PTV_EDGE_RADIUS (1 to 4;
-/// docs/edge-samples.md).
-int EdgeRadius()
-{
-  const char* value = std::getenv("PTV_EDGE_RADIUS");
-  const int v = value ? std::atoi(value) : 0;
-  return v >= 1 && v <= 4 ? v : 1;
-}
-
 /// The edge pixels [e0, e1) of @a edges, traced with @a p (the extra samples' stream); the
 /// frame samples' own jitter comes from @a frameSeed's. Into @a out: the frame, whose edge
 /// pixels become the mean of all their samples, or with @a list every extra sample into an entry
@@ -195,8 +178,8 @@ void FindEdgePixels(
   // Per pixel: 1 where its column (rows y-r..y+r) has a high value, 2 a low one.
   std::vector<unsigned char> columns(w * static_cast<std::size_t>(height));
   std::vector<unsigned char> mask(columns.size());
-  const float high = EdgeHigh();
-  const int r = EdgeRadius();
+  const float high = kEdgeHigh;
+  const int r = kEdgeRadius;
   ParallelFor(threads, 0, height, 16,
     [&](int y0, int y1)
     {

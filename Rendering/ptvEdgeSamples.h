@@ -39,6 +39,8 @@ constexpr int kMaxEdgeSamples = 64;
 constexpr float kEdgeHigh = 0.5f;
 /// ... and one below this is an edge.
 constexpr float kEdgeLow = 0.05f;
+/// The neighbourhood's half width: 3x3 pixels (docs/decisions.md).
+constexpr int kEdgeRadius = 1;
 
 /**
  * The pixels (indices y * width + x, increasing) whose 3x3 neighbourhood (clamped at the

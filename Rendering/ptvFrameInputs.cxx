@@ -24,49 +24,6 @@ namespace ptv
 {
 namespace
 {
-/// Shadow and environment steps in camera steps: kShadowStepScale, or for studies
-/// (Testing/Benchmarks/shadow_step.py) PTV_SHADOW_STEP_SCALE in [1, 16]; anything else is
-/// ignored.
-float ShadowStepScale()
-{
-  const char* value = std::getenv("PTV_SHADOW_STEP_SCALE");
-  if (value)
-  {
-    char* end = nullptr;
-    const float s = std::strtof(value, &end);
-    if (end != value && *end == '\0' && s >= 1.0f && s <= 16.0f)
-    {
-      return s;
-    }
-  }
-  return kShadowStepScale;
-}
-
-/// Where transmittance rays start Russian roulette: kRouletteThreshold, or for studies
-/// (Testing/Benchmarks/roulette.py) PTV_ROULETTE_THRESHOLD in (0, 1]; anything else is ignored.
-float RouletteThreshold()
-{
-  const char* value = std::getenv("PTV_ROULETTE_THRESHOLD");
-  if (value)
-  {
-    char* end = nullptr;
-    const float t = std::strtof(value, &end);
-    if (end != value && *end == '\0' && t > 0.0f && t <= 1.0f)
-    {
-      return t;
-    }
-  }
-  return kRouletteThreshold;
-}
-
-/// PTV_EXPECTED_COVERAGE=1 turns TraceParams::ExpectedCoverage on whatever the mapper's
-/// property (the benchmarks: Testing/Benchmarks/expected_coverage.py, coverage_frames.py).
-bool ExpectedCoverageFromEnvironment()
-{
-  const char* value = std::getenv("PTV_EXPECTED_COVERAGE");
-  return value && value[0] == '1' && value[1] == '\0';
-}
-
 constexpr int kTableSize = 4096;
 constexpr int kGradientTableSize = 1024;
 // Occupancy bricks of 4^3 voxels: measured against 8^3 (benchmark_tracer.py, 512², 1 thread)
@@ -543,8 +500,8 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
 
   // Sampling and shading.
   p.StepWorld = static_cast<float>(step);
-  p.ShadowStepScale = ShadowStepScale();
-  p.RouletteThreshold = RouletteThreshold();
+  p.ShadowStepScale = kShadowStepScale;
+  p.RouletteThreshold = kRouletteThreshold;
   p.UnitDistance = static_cast<float>(std::max(1e-12, prop->GetScalarOpacityUnitDistance(0)));
   this->SetStepTables(p);
   p.Shade = prop->GetShade(0) ? 1 : 0;
@@ -553,7 +510,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   p.Specular = static_cast<float>(prop->GetSpecular(0));
   p.SpecularPower = static_cast<float>(prop->GetSpecularPower(0));
   p.Scattering = settings.Scattering ? 1 : 0;
-  p.ExpectedCoverage = settings.ExpectedCoverage || ExpectedCoverageFromEnvironment() ? 1 : 0;
+  p.ExpectedCoverage = settings.ExpectedCoverage ? 1 : 0;
   const double coverage = static_cast<double>(p.ExpectedCoverage);
   signature.AddExact(&coverage, 1);
   // Not in the signature: a frame without the march stores Alpha as its Coverage, whose

@@ -47,8 +47,7 @@ struct FrameSettings
   /// (TraceParams::CoverageMarch): asked for, or set by the frame loop when the denoiser's
   /// model reads it.
   bool CoverageMarch = false;
-  /// Weight each camera ray's event by its opacity (TraceParams::ExpectedCoverage); the
-  /// environment variable PTV_EXPECTED_COVERAGE=1 also sets it.
+  /// Weight each camera ray's event by its opacity (TraceParams::ExpectedCoverage).
   bool ExpectedCoverage = false;
   /// Look for empty pixels with four fixed rays, the Footprint pass
   /// (TraceParams::FootprintRays): asked for, or set by the frame loop when it denoises.

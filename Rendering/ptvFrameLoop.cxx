@@ -390,12 +390,10 @@ void FrameLoop::ReprojectFrame(const FrameRequest& request)
   // one, so they read the frame sample's own for the time of the step.
   this->SwapEdgeFirstHits(this->Frame, false);
   // Edge pixels keep their new samples alone: their history lags behind the silhouette, which
-  // moves with the view (docs/temporal.md; the study switch PTV_EDGE_HISTORY=1 keeps it).
-  const char* keepEdgeHistory = std::getenv("PTV_EDGE_HISTORY");
-  const bool dropEdges = !(keepEdgeHistory && std::string(keepEdgeHistory) == "1");
+  // moves with the view (docs/decisions.md).
   this->History.Reproject(this->AccumulatedCamera, this->Params.Camera, this->Params.StepWorld,
     request.MaximumHistory, this->LastViewFrames, this->Accumulated, this->Frame,
-    request.Threads, this->EdgePixels.data(), dropEdges ? this->EdgePixels.size() : 0);
+    request.Threads, this->EdgePixels.data(), this->EdgePixels.size());
   this->SwapEdgeFirstHits(this->Accumulated, false); // the frame's passes are there now
 }
 
@@ -600,6 +598,8 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
     }
     decision = this->Parallel.Agree(decision); // process 0 estimates (it alone denoises)
     if (decision != Continue)
+    {
+      this->StillConverged = decision == Converged;
       if (!this->StillConverged && overBudget && k < cap &&
         this->ReportedBudget != request.StillTimeBudget)
       {
@@ -611,8 +611,6 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
              << " dB; raise StillTimeBudget (0: no limit) or lower StillQuality for more.";
         messages.emplace_back(false, text.str());
       }
-    {
-      this->StillConverged = decision == Converged;
       break;
     }
     this->Trace(request, messages);

@@ -212,10 +212,9 @@ public:
    * translucent transfer functions and thin shells and is nothing on opaque surfaces. Measured
    * at 256² on translucent ramps the 1-spp frame goes from 16.4 to 26.7 dB and its denoised
    * image from 34.0 to 36.1 dB, for 1.4x the trace time; on the datasets' presets the denoised
-   * image gains 0.05-0.09 dB for 1.2-1.3x (Training/results/coverage_frames.md). Ignored without
+   * image gains 0.05-0.09 dB for 1.2-1.3x (research/results/coverage_frames.md). Ignored without
    * Scattering, with isosurfaces and for a DistributedVolume split across processes. Changing
-   * it restarts the accumulation. The environment variable PTV_EXPECTED_COVERAGE=1 turns it on
-   * for every mapper (benchmarks). Default off.
+   * it restarts the accumulation. Default off.
    */
   vtkSetMacro(ExpectedCoverage, bool);
   vtkGetMacro(ExpectedCoverage, bool);

@@ -49,9 +49,9 @@
  *     with probability T_k a_k / c (a weighted reservoir: sample k replaces the candidate when
  *     u_k c_k < T_k a_k, c_k the running sum, one draw per absorbing sample), and Radiance =
  *     c L(event). Same expectations as step 4 without the coin flip between event and no
- *     event. Measured (Testing/Benchmarks/results/expected_coverage.md): not worth its cost on
+ *     event. Measured (research/results/expected_coverage.md): not worth its cost on
  *     the datasets' presets, so off by default; large gains in translucent transfer functions
- *     (Training/results/coverage_frames.md).
+ *     (research/results/coverage_frames.md).
  *  4c. CoverageMarch (with Scattering): after step 4's march stops at its event, a second
  *     march carries T on over the samples after it (the same grid) until T <
  *     kCoverageMarchCutoff or tEnd, and the ray's opacity 1 - T is stored as Coverage (a
@@ -95,7 +95,7 @@
  *     samples at (j + xi_s) StepWorld ShadowStepScale (own jitter xi_s), j >= 0, up to the box
  *     exit (or the light), T *= 1 - a_j with a_j corrected for the longer step. Russian
  *     roulette after each absorbing sample while T < RouletteThreshold (default 0.05, chosen
- *     by Testing/Benchmarks/roulette.py): survive with probability 1/2 and double T, else
+ *     by research/benchmarks/roulette.py): survive with probability 1/2 and double T, else
  *     return 0 -- unbiased (E = T) and terminating.
  *  Empty-space skipping (every march, see March()): when the current sample's brick is empty
  *  (ptvOccupancy.h), k jumps to the first sample index whose t is past the empty cube of bricks

@@ -16,7 +16,7 @@
 namespace ptv
 {
 constexpr float kRouletteThreshold = 0.05f;
-/// Shadow and environment steps in camera steps (chosen by Testing/Benchmarks/shadow_step.py).
+/// Shadow and environment steps in camera steps (chosen by research/benchmarks/shadow_step.py).
 constexpr float kShadowStepScale = 2.f;
 
 /// Colour from dependent colour data at an index-space point (see VolumeGrid::Colors), or

@@ -1,5 +1,4 @@
-"""Markdown tables and result files of the study scripts (feature_noise.py, noise_aware.py,
-coverage_frames.py)."""
+"""Markdown tables and result files of the study scripts (feature_noise.py, noise_aware.py)."""
 from __future__ import annotations
 
 import json
