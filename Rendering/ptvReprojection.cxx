@@ -26,7 +26,7 @@ constexpr float kMissCoverage = 0.9f;   ///< a miss's history covers the surface
 /// Turn of the view (degrees) at which the history's weight reaches 0; see HistoryFade. Paired
 /// runs (same samples, histories dropped) on 12-view orbits of 2, 4 and 8 degrees per frame:
 /// without a fade the 4- and 8-degree orbits lost up to 1.3 dB on a frame (the head); 8 gained
-/// on every orbit and frame of the head and the stent (temporal_reuse.py, "History fade").
+/// on every orbit and frame of the head and the stent (docs/decisions.md).
 constexpr double kHistoryAngle = 8.0;
 constexpr double kTurnPrecision = 1e-5; ///< radians; see HistoryFade
 
@@ -34,29 +34,14 @@ constexpr double kTurnPrecision = 1e-5; ///< radians; see HistoryFade
  * Factor on MaximumHistory for a view that turned by @a turn (radians: the rotation angle
  * between the two views' frames, see ViewTurn): 1 - turn / kHistoryAngle, at least 0. What the
  * history saw drifts with the turn: lights that follow the camera, highlights, content behind
- * the first event. PTV_HISTORY_ANGLE (degrees; 0 drops every history) replaces kHistoryAngle for
- * studies (Testing/Benchmarks/temporal_reuse.py); 180 or more: no fade.
+ * the first event.
  */
 float HistoryFade(double turn)
 {
-  double angle = kHistoryAngle;
-  if (const char* value = std::getenv("PTV_HISTORY_ANGLE"))
-  {
-    char* end = nullptr;
-    const double a = std::strtod(value, &end);
-    if (end != value && *end == '\0' && a >= 0.0)
-    {
-      angle = a;
-    }
-  }
-  if (angle >= 180.0)
-  {
-    return 1.f;
-  }
   // A turn within kTurnPrecision of the limit is the limit: the float camera matrices leave
   // an exact 8-degree orbit a fade of ~1e-4 otherwise, whose trace in the pixels the new frame
   // missed the denoiser's tone-mapped colour input magnifies.
-  const double limit = angle * 3.14159265358979323846 / 180.0;
+  const double limit = kHistoryAngle * 3.14159265358979323846 / 180.0;
   return turn < limit - kTurnPrecision ? static_cast<float>(1.0 - turn / limit) : 0.f;
 }
 

@@ -12,12 +12,9 @@ Every method runs in the same process on the same views, at --size² with the sh
   history must be dropped), a fast orbit (--fast-step degrees per frame), a roll of the fixed
   view (--roll-step degrees per frame about the view direction: the central ray stays, the
   image turns) and a pan that brings unseen parts into view; every frame's PSNR with history
-  against the same frame without (the same run with every history dropped,
-  PTV_HISTORY_ANGLE=0: the same random samples, so the difference is the history's alone);
-* **history fade** (--fade-steps orbits of 12 views per orbit dataset, or rolls with
-  --fade-motion roll): the view's turn at which the history's weight reaches 0 (kHistoryAngle
-  in Rendering/ptvReprojection.cxx, set through PTV_HISTORY_ANGLE for each of --fade-angles),
-  PSNR against the same run without history;
+  against the same frame without (TemporalReprojection off, a new seed per view: what the
+  mapper shows without reuse; other random samples, so a single frame's difference carries
+  their spread, about +-0.3 dB, and the means are what to read);
 * **static flicker** (--datasets-static, --static-frames frames of the fixed benchmark view):
   the mapper's own still view (its accumulation), ours per fresh frame and OIDN fast per
   fresh frame (new seeds); per-pixel std of the tone-mapped frames;
@@ -31,10 +28,8 @@ Usage: ``python Testing/Benchmarks/temporal_reuse.py --help``.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import hashlib
 import json
-import os
 import statistics
 import sys
 import time
@@ -61,9 +56,6 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--step", type=float, default=2.0, help="orbit degrees per frame")
     p.add_argument("--fast-step", type=float, default=8.0, help="fast orbit degrees per frame")
     p.add_argument("--roll-step", type=float, default=4.0, help="roll degrees per frame")
-    p.add_argument("--fade-motion", choices=["orbit", "roll"], default="orbit",
-                   help="the history fade study's camera paths: orbits or rolls of the fixed "
-                   "view (--fade-steps degrees per frame)")
     p.add_argument("--ref-spp", type=int, default=32, help="spp of each converged view")
     p.add_argument("--histories", type=int, nargs="+", default=[1, 2, 4, 8],
                    help="MaximumHistory values to run")
@@ -72,10 +64,6 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--datasets-orbit", nargs="+", default=["head", "stent"])
     p.add_argument("--datasets-static", nargs="+", default=["head", "stent", "concrete"])
     p.add_argument("--static-frames", type=int, default=16, help="frames of the fixed view")
-    p.add_argument("--fade-steps", type=float, nargs="+", default=[2.0, 4.0, 8.0],
-                   help="orbit degrees per frame of the history-fade study")
-    p.add_argument("--fade-angles", type=float, nargs="+", default=[180.0, 16.0, 8.0, 4.0],
-                   help="history-fade angles to compare (180: no fade)")
     p.add_argument("--model", default="",
                    help="GuideNet ONNX file the mapper denoises with (default: the shipped one)")
     p.add_argument("--quick", action="store_true", help="a small run (tests, smoke checks)")
@@ -84,7 +72,6 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     if a.quick:
         a.size, a.frames, a.ref_spp, a.static_frames = 64, 6, 4, 4
         a.histories, a.default_history = [4], 4
-        a.fade_steps, a.fade_angles = [8.0], [180.0]
         a.datasets_orbit, a.datasets_static = ["head"], ["head"]
     if a.default_history not in a.histories:
         p.error("--default-history must be one of --histories")
@@ -211,20 +198,6 @@ class Orbit:
         return out
 
 
-@contextlib.contextmanager
-def history_angle(degrees: Optional[float]):
-    """Run with PTV_HISTORY_ANGLE set (None: the mapper's default; 0 drops every history)."""
-    old = os.environ.pop("PTV_HISTORY_ANGLE", None)
-    if degrees is not None:
-        os.environ["PTV_HISTORY_ANGLE"] = repr(float(degrees))
-    try:
-        yield
-    finally:
-        os.environ.pop("PTV_HISTORY_ANGLE", None)
-        if old is not None:
-            os.environ["PTV_HISTORY_ANGLE"] = old
-
-
 def orbit_path(frames: int, step: float) -> List[Dict[str, float]]:
     return [{"azimuth": i * step} for i in range(frames)]
 
@@ -266,23 +239,19 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
         oidn_frames.append(tonemap(pb.oidn(o.scene.passes(), "fast")))
     base = o.run(path, False, 1, tf_change=tf_change, reseed=True,
                  on_frame=oidn_frame if with_oidn else None)
-    today = sequence_row(o.dataset, case, "ours per frame, new seed (report)", base["shown"],
-                         refs)
+    # Without reuse: what the mapper shows with TemporalReprojection off (a new seed per view).
+    paired = sequence_row(o.dataset, case, "ours per frame, new seed (report)", base["shown"],
+                          refs)
+    paired["raw_psnr_per_frame"] = psnr_per_frame(base["raw"], refs)
+    paired["raw_psnr_mean"] = float(np.mean(paired["raw_psnr_per_frame"]))
     same = o.run(path, False, 1, tf_change=tf_change)
-    rows += [today, sequence_row(o.dataset, case, "noisy 1 spp", base["raw"], refs),
+    rows += [paired, sequence_row(o.dataset, case, "noisy 1 spp", base["raw"], refs),
              sequence_row(o.dataset, case, "ours per frame, one seed (mapper today)",
                           same["shown"], refs)]
     if with_oidn:
         rows.append(sequence_row(o.dataset, case, "OIDN fast per frame", oidn_frames, refs))
     if case == "orbit":
         rows.append(sequence_row(o.dataset, case, f"converged ({a.ref_spp} spp)", refs, refs))
-    with history_angle(0.0):  # the same samples, every history dropped
-        alone = o.run(path, True, 1, tf_change=tf_change)
-    paired = sequence_row(o.dataset, case, "ours, no history (same samples)", alone["shown"],
-                          refs)
-    paired["raw_psnr_per_frame"] = psnr_per_frame(alone["raw"], refs)
-    paired["raw_psnr_mean"] = float(np.mean(paired["raw_psnr_per_frame"]))
-    rows.append(paired)
     for h in histories:
         r = o.run(path, True, h, tf_change=tf_change)
         row = sequence_row(o.dataset, case, f"ours + reprojection (M={h})", r["shown"], refs)
@@ -305,7 +274,7 @@ def run_case(o: Orbit, case: str, path: Sequence[Dict[str, float]], a: argparse.
 
 def gains_around(row: Dict[str, Any], alone: Dict[str, Any], change: int
                  ) -> Dict[str, Dict[str, float]]:
-    """What the history adds over the same samples without it (dB, raw mean and shown image),
+    """What the history adds over the run without it (dB, raw mean and shown image),
     over the moving frames before a change and over those after the frame of the change."""
     out = {}
     for part, frames in (("before", range(1, change)),
@@ -316,30 +285,6 @@ def gains_around(row: Dict[str, Any], alone: Dict[str, Any], change: int
             raw = shown = [float("nan")]
         out[part] = {"raw_mean": float(np.mean(raw)), "shown_mean": float(np.mean(shown)),
                      "shown_worst": float(np.min(shown)), "frames": len(frames)}
-    return out
-
-
-def fade_study(o: Orbit, a: argparse.Namespace) -> List[Dict[str, Any]]:
-    """Orbits (a.fade_motion "roll": rolls) of 12 views at each of a.fade_steps, MaximumHistory
-    a.default_history, with each of a.fade_angles: mean and worst per-frame PSNR difference to
-    the same run without history (frames 1..; frame 0 has none)."""
-    out = []
-    for step in a.fade_steps:
-        frames = 12 if not a.quick else 3
-        path = roll_path(frames, step) if a.fade_motion == "roll" else orbit_path(frames, step)
-        refs = o.references(path, a.ref_spp, 6000)
-        with history_angle(0.0):
-            alone = [psnr_vs(f, x) for f, x in
-                     zip(o.run(path, True, a.default_history)["shown"], refs)]
-        for angle in a.fade_angles:
-            with history_angle(angle):
-                r = o.run(path, True, a.default_history)
-            per = [psnr_vs(f, x) for f, x in zip(r["shown"], refs)]
-            d = [x - y for x, y in zip(per[1:], alone[1:])]
-            out.append({"dataset": o.dataset, "step": step, "angle": angle,
-                        "psnr_mean": float(np.mean(per)), "gain_mean": float(np.mean(d)),
-                        "gain_min": float(np.min(d)), "tpsnr_mean": float(np.mean(tpsnr(
-                            r["shown"])))})
     return out
 
 
@@ -407,8 +352,7 @@ def chart(path: Path, rows: Sequence[Dict[str, Any]], a: argparse.Namespace) -> 
 
 
 def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
-             costs: Sequence[Dict[str, Any]], fades: Sequence[Dict[str, Any]],
-             a: argparse.Namespace, command: str) -> str:
+             costs: Sequence[Dict[str, Any]], a: argparse.Namespace, command: str) -> str:
     md = ["# Temporal reuse while the camera moves", "",
           f"`{command}` (idle machine; {a.size}², "
           f"{'model ' + Path(a.model).name if a.model else 'shipped model'}, Denoise on, "
@@ -429,20 +373,13 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
             continue
         g = r["gains_around_change"]
         md.append(f"\n{r['dataset']}, {r['case']}, {r['method']}: longest history in the frame "
-                  f"of the change {r['history_max_at_change']:.0f} (1 = dropped). Over the same "
-                  "samples without history, the history adds to the raw mean / to the shown "
+                  f"of the change {r['history_max_at_change']:.0f} (1 = dropped). Over the run "
+                  "without reuse (TemporalReprojection off), the history adds to the raw mean / to the shown "
                   f"image: before the change {g['before']['raw_mean']:+.2f} / "
                   f"{g['before']['shown_mean']:+.2f} dB (worst frame "
                   f"{g['before']['shown_worst']:+.2f}), after it {g['after']['raw_mean']:+.2f}"
                   f" / {g['after']['shown_mean']:+.2f} dB (worst frame "
                   f"{g['after']['shown_worst']:+.2f}).")
-    md += ["", f"History fade (12-view {a.fade_motion}s, M = {a.default_history}; PSNR against "
-           "the same run with every history dropped, frames 1-11; 180° = no fade):", "",
-           "| dataset | ° per frame | fade angle | PSNR vs converged | gain (mean) | "
-           "gain (worst frame) | mean tPSNR |", "|---|---|---|---|---|---|---|"]
-    md += [f"| {f['dataset']} | {f['step']:g} | {f['angle']:g} | {f['psnr_mean']:.2f} | "
-           f"{f['gain_mean']:+.2f} | {f['gain_min']:+.2f} | {f['tpsnr_mean']:.2f} |"
-           for f in fades]
     md += ["", "Static view flicker (per-pixel std of tone-mapped frames, "
            f"{a.static_frames} frames):", "", "| dataset | method | flicker | ÷ OIDN fast |",
            "|---|---|---|---|"]
@@ -479,9 +416,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                      histories=[a.default_history], with_oidn=False)
             run_case(o, "pan (2 % of the width per frame)", pan_path(max(a.frames // 3, 2)), a,
                      rows, costs, histories=[a.default_history], with_oidn=False)
-    fades: List[Dict[str, Any]] = []
-    for ds in tqdm(a.datasets_orbit, desc="history fade", unit="dataset"):
-        fades += fade_study(Orbit(ds, a.size, a.model), a)
     flick: List[Dict[str, Any]] = []
     for ds in tqdm(a.datasets_static, desc="static flicker", unit="dataset"):
         flick += static_flicker(Orbit(ds, a.size, a.model), a.static_frames)
@@ -494,12 +428,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     write_text(a.out / "temporal_reuse.json", json.dumps(
         {"command": command, "args": {k: (str(v) if isinstance(v, Path) else v)
                                       for k, v in vars(a).items()},
-         "rows": rows, "static_flicker": flick, "cost": costs, "history_fade": fades},
+         "rows": rows, "static_flicker": flick, "cost": costs},
         indent=1) + "\n")
     keys = list(dict.fromkeys(k for r in table for k in r))
     write_text(a.out / "temporal_reuse.csv", ",".join(keys) + "\n" + "".join(
         ",".join(str(r.get(k, "")) for k in keys) + "\n" for r in table))
-    text = markdown(rows, flick, costs, fades, a, command)
+    text = markdown(rows, flick, costs, a, command)
     write_text(a.out / "temporal_reuse.md", text)
     print(text)
     return 0

@@ -165,3 +165,28 @@ def test_expected_coverage() -> None:
     error = np.sqrt(flip.var(ddof=1) / flip.size + expected.var(ddof=1) / expected.size)
     assert abs(flip.mean() - expected.mean()) < 5 * error, (flip.mean(), expected.mean(), error)
     assert expected.std() < flip.std()
+
+
+def test_only_documented_environment_variables() -> None:
+    """The product's C++ reads only the environment variables the README documents, and none of
+    them changes the image (issue #61): PTV_DATA_DIR and the diagnostic PTV_PORTABLE_KERNELS."""
+    import os
+    import re
+    from pathlib import Path
+
+    root = Path(os.environ.get("PTV_SOURCE_DIR") or Path(__file__).resolve().parents[2])
+    read = {}
+    for folder in ("Rendering", "Filters", "Plugin"):
+        for path in (root / folder).rglob("*"):
+            if path.suffix not in {".h", ".cxx", ".cu", ".cuh"}:
+                continue
+            text = path.read_text(errors="replace")
+            calls = re.findall(r"getenv\s*\(([^)]*)\)", text)
+            for arg in calls:
+                name = arg.strip().strip('"')
+                assert re.fullmatch(r"PTV_[A-Z_]+", name), f"{path}: getenv({arg}) is not a literal"
+                read.setdefault(name, []).append(path.relative_to(root).as_posix())
+    assert set(read) == {"PTV_DATA_DIR", "PTV_PORTABLE_KERNELS"}, read
+    readme = (root / "README.md").read_text()
+    for name in read:
+        assert f"`{name}" in readme, f"{name} is not documented in README.md"
