@@ -470,6 +470,14 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     const double v = p.Iso.Values[i];
     signature.AddExact(&v, 1);
   }
+  p.Projection = p.Iso.Count > 0 ? 0 : settings.Projection;
+  const double limit = std::numeric_limits<float>::max();
+  const double averageRange[3] = { static_cast<double>(p.Projection),
+    std::max(-limit, std::min(limit, (settings.AverageRange[0] - this->Shift) * this->Scale)),
+    std::max(-limit, std::min(limit, (settings.AverageRange[1] - this->Shift) * this->Scale)) };
+  p.AverageLo = static_cast<float>(averageRange[1]);
+  p.AverageHi = static_cast<float>(averageRange[2]);
+  signature.AddExact(averageRange, 3);
 
   // Transfer function.
   vtkVolumeProperty* prop = vol->GetProperty();

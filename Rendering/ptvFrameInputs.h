@@ -63,6 +63,10 @@ struct FrameSettings
   IsoSurfaces Iso;
   /// The same values in double (the data's units: FrameInputs stores them as its voxels).
   double IsoValues[kMaxIsoValues] = {};
+  /// An intensity projection instead of the medium (TraceParams::Projection; 0: none), and the
+  /// scalars an average counts (the data's units; vtkVolumeMapper::AverageIPScalarRange).
+  int Projection = 0;
+  double AverageRange[2] = { -1e300, 1e300 };
   /// A piece of a distributed volume: this process's own extent (structured point indices)
   /// inside the image's, which camera rays stay in (the rest is a ghost layer). Empty (x0 > x1,
   /// the default): the whole image.

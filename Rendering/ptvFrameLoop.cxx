@@ -564,11 +564,18 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
     Converged,
     Stop
   };
+  // A projection has no Monte Carlo noise, only the pixel jitter's antialiasing: its minimum is
+  // the whole still.
+  const bool projection = request.Scene.Projection > 0;
   while (!this->StillConverged)
   {
     const int k = this->AccumulatedFrames;
     int decision = Continue;
-    if (k >= next || k >= cap)
+    if (projection)
+    {
+      decision = k >= minimum ? Converged : k >= cap ? Stop : Continue;
+    }
+    else if (k >= next || k >= cap)
     {
       this->Combine(request, messages);
       const double quality = this->EstimatedQuality;

@@ -111,8 +111,16 @@ void GatherClipping(
 }
 
 // The blend mode: Composite is the path tracer; IsoSurface traces the property's iso values as
-// surfaces (into scene.Iso); any other mode renders Composite. A problem (unsupported mode, no or
-// too many or NaN iso values) is reported when it differs from the last one (@a reported).
+// surfaces (into scene.Iso); the intensity projections (maximum, minimum, average, additive) are
+// ray cast (scene.Projection), except for a volume split across processes, whose pieces are
+// composited front to back; Slice renders Composite. A problem (unsupported mode, no or too many
+// or NaN iso values) is reported when it differs from the last one (@a reported).
+static_assert(ptv::kProjectionMaximum == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
+    ptv::kProjectionMinimum == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND &&
+    ptv::kProjectionAverage == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND &&
+    ptv::kProjectionAdditive == vtkVolumeMapper::ADDITIVE_BLEND,
+  "the kernel's projections use vtkVolumeMapper's blend-mode numbers");
+
 void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* property,
   ptv::FrameSettings& scene, std::string& reported)
 {
@@ -121,7 +129,21 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
   const int mode = self->GetBlendMode();
   std::ostringstream problem;
   scene.Iso.Count = 0;
-  if (mode == vtkVolumeMapper::ISOSURFACE_BLEND)
+  scene.Projection = 0;
+  const bool projection = mode >= vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
+    mode <= vtkVolumeMapper::ADDITIVE_BLEND;
+  if (projection && self->GetDistributedVolume())
+  {
+    problem << "BlendMode " << names[mode] << " (" << mode
+            << ") is not supported for a volume split across processes (DistributedVolume); "
+               "it renders Composite (path traced).";
+  }
+  else if (projection)
+  {
+    scene.Projection = mode; // ptv::kProjection* are vtkVolumeMapper's numbers
+    self->GetAverageIPScalarRange(scene.AverageRange);
+  }
+  else if (mode == vtkVolumeMapper::ISOSURFACE_BLEND)
   {
     vtkContourValues* values = property ? property->GetIsoSurfaceValues() : nullptr;
     const int n = values ? values->GetNumberOfContours() : 0;
@@ -163,8 +185,7 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
   {
     problem << "BlendMode " << (mode >= 0 && mode < 7 ? names[mode] : "unknown") << " (" << mode
             << ") is not supported by the path tracer; it renders Composite (path traced). "
-               "Use vtkGPUVolumeRayCastMapper or vtkFixedPointVolumeRayCastMapper for "
-               "intensity projections and slices.";
+               "Use vtkGPUVolumeRayCastMapper for slices.";
   }
   if (problem.str() != reported)
   {
@@ -498,6 +519,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     };
     GatherClipping(this, scene, this->Internals->ClipProblems);
     GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
+    request.Denoise = request.Denoise && scene.Projection == 0; // a projection has no noise
 
     ptv::FrameMessages messages;
     loop.Render(ren, vol, image, scalars, cellFlag != 0, request, messages);

@@ -108,6 +108,16 @@
  *  the surfaces between samples; the events and transmittances follow steps 3-6 with the
  *  surface's opacity alpha (at its value) in place of a, at the crossing instead of a sample.
  *  Misses and no-event fields: Normal 0, Position 0, Depth = Camera.FarDistance, Albedo 0.
+ *  Projections (Projection > 0, VTK's intensity blend modes; no light transport, no draws after
+ *  step 1): the camera ray visits every sample of step 2 (no skipping: a projection reads
+ *  scalars, not opacities), cut-away and no-data samples excluded. MaximumIntensity /
+ *  MinimumIntensity: the largest / smallest scalar m; Alpha = alpha(m) uncorrected and
+ *  Radiance = c(m) alpha(m), the first event at m's sample (as VTK's ray casters). Average /
+ *  Additive (as vtkGPUVolumeRayCastMapper): the mean (over samples with AverageLo <= s <=
+ *  AverageHi) / the sum of a s_n, a the step-corrected opacity and s_n the scalar normalized
+ *  to the table's range, clamped to [0, 1], as a grey of Alpha 1 wherever the ray met a sample
+ *  (first event at its entry). The pixel jitter and the march offset still vary per sample, so
+ *  frames average into an antialiased image.
  *
  * Parameter guards: StepWorld <= 0 (or NaN) renders nothing; UnitDistance <= 0 means alpha is
  * already per step (no correction); ShadowStepScale <= 0 means 2. x, y must lie in the image.
@@ -177,6 +187,75 @@ PTV_HD PTV_INLINE void SetFirstEvent(const TraceParams& p, Vec3 origin, Vec3 dir
   out.Position1 = origin + dir * t;
   out.Normal1 = ShadingNormal(p, pIdx, dir);
   out.Albedo = color;
+}
+
+/// The camera ray of TracePixel() for an intensity projection (TraceParams::Projection; see the
+/// file comment), filling @a out.
+PTV_HD PTV_INLINE PTV_NOINLINE void TraceProjection(const TraceParams& p, Vec3 origin, Vec3 dir,
+  Vec3 oIdx, Vec3 dIdx, float tStart, float tEnd, float xi, PixelSample& out)
+{
+  const float step = p.StepWorld;
+  const TransferTable& tf = p.Transfer;
+  const float span = tf.ScalarMax - tf.ScalarMin;
+  const float invSpan = span > 0.f ? 1.f / span : 0.f;
+  const float stepOverUnit = StepOverUnit(p, step);
+  const bool extreme = p.Projection == kProjectionMaximum || p.Projection == kProjectionMinimum;
+  float best = 0.f, bestT = 0.f, sum = 0.f, firstT = 0.f;
+  int count = 0;
+  for (int k = 0;; ++k)
+  {
+    const float t = tStart + (static_cast<float>(k) + xi) * step;
+    if (!(t < tEnd))
+    {
+      break;
+    }
+    const float s = IsoScalar(p, oIdx + dIdx * t); // NaN where cut away or without data
+    if (!(s == s) ||
+      (p.Projection == kProjectionAverage && !(s >= p.AverageLo && s <= p.AverageHi)))
+    {
+      continue;
+    }
+    if (count++ == 0)
+    {
+      firstT = t;
+    }
+    if (extreme)
+    {
+      if (count == 1 || (p.Projection == kProjectionMaximum ? s > best : s < best))
+      {
+        best = s;
+        bestT = t;
+      }
+      continue;
+    }
+    const float a = CorrectOpacity(LookupTransfer(tf, s).Opacity, stepOverUnit);
+    sum += a * Clamp((s - tf.ScalarMin) * invSpan, 0.f, 1.f);
+  }
+  if (count == 0)
+  {
+    return;
+  }
+  if (extreme)
+  {
+    const TransferSample ts = LookupTransfer(tf, best);
+    out.Alpha = ts.Opacity;
+    out.Radiance = ts.Color * ts.Opacity;
+    if (ts.Opacity > 0.f)
+    {
+      SetFirstEvent(p, origin, dir, bestT, oIdx + dIdx * bestT, ts.Color, out);
+    }
+  }
+  else
+  {
+    const float g =
+      Clamp(p.Projection == kProjectionAverage ? sum / static_cast<float>(count) : sum, 0.f, 1.f);
+    out.Alpha = 1.f;
+    out.Radiance = MakeVec3(g, g, g);
+    SetFirstEvent(p, origin, dir, firstT, oIdx + dIdx * firstT, out.Radiance, out);
+  }
+  out.Depth2 = out.Depth1;
+  out.Position2 = out.Position1;
+  out.Normal2 = out.Normal1;
 }
 
 /// The camera ray of TracePixel() with ExpectedCoverage (step 4b), filling @a out.
@@ -413,6 +492,13 @@ PTV_HD PTV_INLINE PixelSample TraceCameraRay(const TraceParams& p, int x, int y,
   const float tStart = ray.TStart, tEnd = ray.TEnd;
   xi = ray.Xi;
 
+  if (p.Projection > 0)
+  {
+    near = true;
+    TraceProjection(p, origin, dir, oIdx, dIdx, tStart, tEnd, xi, out);
+    out.Coverage = out.Alpha;
+    return out;
+  }
   float T = 1.f;
   bool haveFirst = false;
   if (p.Iso.Count > 0)

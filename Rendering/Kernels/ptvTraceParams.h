@@ -34,6 +34,10 @@ struct TraceParams
   OccupancyGrid Occupancy; ///< Occupancy.Distance == nullptr: no skipping
   ClipRegion Clip;         ///< clipping planes and cropping (ptvClipping.h); default: none
   IsoSurfaces Iso;         ///< Iso.Count > 0: isosurfaces instead of the composite medium
+  /// VTK's intensity projections instead of the medium (kProjection*; 0: none; ptvIntegrator.h,
+  /// "Projections"); AverageLo/Hi: the scalars an average counts (stored units).
+  int Projection;
+  float AverageLo, AverageHi;
   TransferTable ColorTable; ///< colours of Volume.ColorScalars (2-component data); else unused
   CameraRays Camera;
   Light KeyLight;
@@ -83,6 +87,13 @@ struct TraceParams
   uint32_t Seed;
   uint32_t Frame;
 };
+
+/// TraceParams::Projection: VTK's blend modes MaximumIntensity, MinimumIntensity,
+/// AverageIntensity and Additive (vtkVolumeMapper::*_BLEND 1-4).
+constexpr int kProjectionMaximum = 1;
+constexpr int kProjectionMinimum = 2;
+constexpr int kProjectionAverage = 3;
+constexpr int kProjectionAdditive = 4;
 
 /// A depth below this fraction of the far distance is a hit (features.py: HIT_FRACTION); misses
 /// are stored at the far distance itself.
