@@ -13,6 +13,8 @@
 #define ptvFrameInputs_h
 
 #include "Kernels/ptvIntegrator.h"
+#include "ptvFrameSettings.h"
+#include "ptvFrameSignature.h"
 #include "ptvPieces.h"
 
 #include "vtkType.h"
@@ -29,96 +31,6 @@ class vtkVolumeProperty;
 
 namespace ptv
 {
-/// The mapper settings that reach the kernel.
-struct FrameSettings
-{
-  unsigned int Seed = 0;
-  int SamplesPerFrame = 1;
-  bool Scattering = true;
-  bool AmbientOcclusion = true;
-  double AmbientOcclusionReach = 1.0; ///< fraction of the volume's diagonal (>= 1: unlimited)
-  bool UseRendererLight = true;
-  double LightIntensity = 1.0;
-  double EnvironmentColor[3] = { 1, 1, 1 };
-  bool UseBackgroundAsEnvironment = true;
-  double EnvironmentIntensity = 1.0;
-  bool EmptySpaceSkipping = true;
-  /// March each camera ray past its event for its opacity, the Coverage pass
-  /// (TraceParams::CoverageMarch): asked for, or set by the frame loop when the denoiser's
-  /// model reads it.
-  bool CoverageMarch = false;
-  /// Weight each camera ray's event by its opacity (TraceParams::ExpectedCoverage).
-  bool ExpectedCoverage = false;
-  /// Look for empty pixels with four fixed rays, the Footprint pass
-  /// (TraceParams::FootprintRays): asked for, or set by the frame loop when it denoises.
-  bool FootprintRays = false;
-  /// Clipping planes in world space, kept where n.x + d >= 0: (n.x, n.y, n.z, d), at most 6.
-  int ClipPlaneCount = 0;
-  double ClipPlanes[6][4] = {};
-  /// vtkVolumeMapper cropping: planes in the image's coordinates (origin and spacing applied).
-  bool Cropping = false;
-  double CroppingPlanes[6] = {};
-  int CroppingFlags = 0;
-  /// Isosurface blend mode: the property's iso values (sorted, at most 8); Count 0: composite.
-  IsoSurfaces Iso;
-  /// The same values in double (the data's units: FrameInputs stores them as its voxels).
-  double IsoValues[kMaxIsoValues] = {};
-  /// An intensity projection instead of the medium (TraceParams::Projection; 0: none), and the
-  /// scalars an average counts (the data's units; vtkVolumeMapper::AverageIPScalarRange).
-  int Projection = 0;
-  double AverageRange[2] = { -1e300, 1e300 };
-  /// A piece of a distributed volume: this process's own extent (structured point indices)
-  /// inside the image's, which camera rays stay in (the rest is a ghost layer). Empty (x0 > x1,
-  /// the default): the whole image.
-  int PieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
-  /// The whole volume's extent (all pieces); empty: the union of the processes' pieces.
-  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
-};
-
-/**
- * Everything that changes the image, in two parts: the scene (volume, transfer function, fixed
- * lights, settings, size), whose change drops every sample, and the view (the camera, the lights
- * that move with it, the opaque geometry's depths), whose change alone lets the accumulation be
- * reprojected (ptvReprojection). Exact values (modification times, sizes, settings, the
- * geometry's hash) must match exactly; geometric values (camera, light) within a relative 1e-6,
- * far below a pixel: VTK itself nudges them by rounding (vtkWindowToImageFilter changes the view
- * angle by ~1e-8 and back), which must not restart the accumulation.
- */
-struct FrameSignature
-{
-  enum class Change
-  {
-    None,  ///< the same image
-    View,  ///< only the view moved: the scene's samples can be reprojected
-    Scene, ///< the scene changed (or the view's exact part without the camera): start again
-  };
-
-  std::vector<double> Exact;
-  std::vector<double> Approximate;
-  std::vector<double> View;      ///< approximate
-  std::vector<double> ViewExact; ///< exact, and expected to change when the camera moves
-
-  /// What changed from @a other to this.
-  Change Compare(const FrameSignature& other) const;
-  void AddExact(const double* v, int n) { this->Exact.insert(this->Exact.end(), v, v + n); }
-  void AddApproximate(const double* v, int n)
-  {
-    this->Approximate.insert(this->Approximate.end(), v, v + n);
-  }
-  void AddView(const double* v, int n) { this->View.insert(this->View.end(), v, v + n); }
-  void AddViewExact(const double* v, int n)
-  {
-    this->ViewExact.insert(this->ViewExact.end(), v, v + n);
-  }
-  void Clear()
-  {
-    this->Exact.clear();
-    this->Approximate.clear();
-    this->View.clear();
-    this->ViewExact.clear();
-  }
-};
-
 class FrameInputs
 {
 public:

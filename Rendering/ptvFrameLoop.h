@@ -64,7 +64,7 @@ struct FrameRequest
   bool TemporalReprojection = true;
   int MaximumHistory = 1; ///< frames of reprojected history a pixel keeps at most
   int Threads = 0;                   ///< <= 0: every core
-  int Backend = 0;                   ///< vtkPathTracedVolumeMapper::BACKEND_*
+  int Backend = 0;                   ///< ptv::kBackend* (ptvBackend.h)
   bool Denoise = true;
   /// Samples per frame sample at the volume's edge pixels (ptvEdgeSamples.h; 1: none), traced
   /// when the frame is denoised or with ComputeEdgeSamples.

@@ -9,7 +9,9 @@
 #ifndef ptvSceneToKernel_h
 #define ptvSceneToKernel_h
 
-#include "ptvFrameInputs.h"
+#include "Kernels/ptvIntegrator.h"
+#include "ptvFrameSettings.h"
+#include "ptvFrameSignature.h"
 
 #include <string>
 #include <vector>

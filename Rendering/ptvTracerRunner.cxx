@@ -2,7 +2,7 @@
 
 #include "ptvCpuTracer.h"
 #include "ptvCudaDevice.h"
-#include "vtkPathTracedVolumeMapper.h" // BACKEND_* (defined once, on the public class)
+#include "ptvBackend.h"
 
 namespace ptv
 {
@@ -11,19 +11,19 @@ int ResolveBackend(
   int requested, bool cudaAvailable, const std::string& cudaStatus, std::string& message)
 {
   message.clear();
-  if (requested == vtkPathTracedVolumeMapper::BACKEND_CPU)
+  if (requested == kBackendCpu)
   {
-    return vtkPathTracedVolumeMapper::BACKEND_CPU;
+    return kBackendCpu;
   }
   if (cudaAvailable)
   {
-    return vtkPathTracedVolumeMapper::BACKEND_CUDA;
+    return kBackendCuda;
   }
-  if (requested == vtkPathTracedVolumeMapper::BACKEND_CUDA)
+  if (requested == kBackendCuda)
   {
     message = "the CUDA backend was requested but " + cudaStatus + "; tracing on the CPU";
   }
-  return vtkPathTracedVolumeMapper::BACKEND_CPU;
+  return kBackendCpu;
 }
 
 //------------------------------------------------------------------------------
@@ -34,16 +34,16 @@ void TracerRunner::Trace(const TraceParams& params, unsigned long long volumeVer
   const CudaDeviceQuery& devices = QueryCudaDevices();
   int backend = ResolveBackend(requested, devices.DeviceCount > 0, devices.Message, problem);
   std::string cudaError;
-  if (backend == vtkPathTracedVolumeMapper::BACKEND_CUDA &&
+  if (backend == kBackendCuda &&
     !this->Cuda.Trace(params, volumeVersion, firstSample, samples, out, cudaError))
   {
     problem = "CUDA tracing failed (" + cudaError + "); tracing on the CPU";
-    backend = vtkPathTracedVolumeMapper::BACKEND_CPU;
+    backend = kBackendCpu;
   }
-  if (backend == vtkPathTracedVolumeMapper::BACKEND_CPU)
+  if (backend == kBackendCpu)
   {
     TraceFrameCpu(params, firstSample, samples, threads, portable, out);
   }
-  this->LastBackend = backend == vtkPathTracedVolumeMapper::BACKEND_CUDA ? "CUDA" : "CPU";
+  this->LastBackend = backend == kBackendCuda ? "CUDA" : "CPU";
 }
 }

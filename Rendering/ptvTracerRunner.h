@@ -4,8 +4,8 @@
  *        one place that chooses between ptvCudaTracer and ptvCpuTracer (as
  *        ptvBilateralGridRunner does for the denoiser's grid).
  *
- * Backends are vtkPathTracedVolumeMapper's BACKEND_AUTO / BACKEND_CPU / BACKEND_CUDA (defined
- * there only). Both run the same kernel (Kernels/ptvIntegrator.h), so a fallback changes where
+ * Backends are ptvBackend.h's kBackendAuto / kBackendCpu / kBackendCuda (the public class's
+ * BACKEND_* numbers). Both run the same kernel (Kernels/ptvIntegrator.h), so a fallback changes where
  * the frame is traced, not what it shows.
  */
 #ifndef ptvTracerRunner_h

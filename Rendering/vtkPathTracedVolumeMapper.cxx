@@ -4,6 +4,7 @@
 #include "ptvCpuTracer.h"
 #include "ptvFrameLoop.h"
 #include "ptvKernelDispatch.h"
+#include "ptvBackend.h"
 #include "ptvSceneToKernel.h"
 
 #include "vtkContourValues.h"
@@ -115,6 +116,11 @@ void GatherClipping(
 // ray cast (scene.Projection), except for a volume split across processes, whose pieces are
 // composited front to back; Slice renders Composite. A problem (unsupported mode, no or too many
 // or NaN iso values) is reported when it differs from the last one (@a reported).
+static_assert(ptv::kBackendAuto == vtkPathTracedVolumeMapper::BACKEND_AUTO &&
+    ptv::kBackendCpu == vtkPathTracedVolumeMapper::BACKEND_CPU &&
+    ptv::kBackendCuda == vtkPathTracedVolumeMapper::BACKEND_CUDA,
+  "ptvBackend.h numbers the backends as the public class");
+
 static_assert(ptv::kProjectionMaximum == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
     ptv::kProjectionMinimum == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND &&
     ptv::kProjectionAverage == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND &&
