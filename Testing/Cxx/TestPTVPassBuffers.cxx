@@ -1,0 +1,188 @@
+// Unit test of ptvPassBuffers (issue #60): the pass table, a sample's round trip through the
+// passes, sizing, and the running mean of frames.
+//  - pass names are unique and FindPass finds each (nullptr and unknown names: -1); the traced
+//    passes come first and none of them is a denoiser pass;
+//  - StoreSample then LoadSample gives back every field at its pixel, and writes nothing else;
+//  - Resize zeroes every pass at the new size and keeps the contents when the size is the same;
+//    Clear zeroes;
+//  - Accumulate(frame, k) for k = 1..N leaves the arithmetic mean of the N frames in every
+//    traced pass (float rounding: each update errs by at most ~2 eps for values in [-1, 1], so
+//    within 2 N eps), swaps on the first frame, and leaves the derived passes alone.
+#include "ptvPassBuffers.h"
+#include "ptvTestCheck.h"
+
+#include <cfloat>
+#include <cmath>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace
+{
+ptv::PixelSample RandomSample(std::mt19937& rng)
+{
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  auto v3 = [&]() { return ptv::MakeVec3(u(rng), u(rng), u(rng)); };
+  ptv::PixelSample s;
+  s.Radiance = v3();
+  s.Alpha = u(rng);
+  s.Albedo = v3();
+  s.Depth1 = u(rng);
+  s.Position1 = v3();
+  s.Normal1 = v3();
+  s.Depth2 = u(rng);
+  s.Position2 = v3();
+  s.Normal2 = v3();
+  s.Coverage = u(rng);
+  s.Footprint = u(rng);
+  return s;
+}
+
+bool Same(const ptv::Vec3& a, const ptv::Vec3& b)
+{
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+bool Same(const ptv::PixelSample& a, const ptv::PixelSample& b)
+{
+  return Same(a.Radiance, b.Radiance) && a.Alpha == b.Alpha && Same(a.Albedo, b.Albedo) &&
+    a.Depth1 == b.Depth1 && Same(a.Position1, b.Position1) && Same(a.Normal1, b.Normal1) &&
+    a.Depth2 == b.Depth2 && Same(a.Position2, b.Position2) && Same(a.Normal2, b.Normal2) &&
+    a.Coverage == b.Coverage && a.Footprint == b.Footprint;
+}
+
+std::size_t Values(const ptv::PassBuffers& b, int pass)
+{
+  return static_cast<std::size_t>(b.GetWidth()) * b.GetHeight() *
+    ptv::GetPassInfo(pass).Components;
+}
+
+void TestPassTable()
+{
+  std::set<std::string> names;
+  for (int pass = 0; pass < ptv::PassCount; ++pass)
+  {
+    const ptv::PassInfo& info = ptv::GetPassInfo(pass);
+    names.insert(info.Name);
+    Check(ptv::FindPass(info.Name) == pass, std::string("FindPass finds ") + info.Name);
+    Check(info.Components >= 1 && info.Components <= 3,
+      std::string(info.Name) + " has 1 to 3 components");
+    Check(pass >= ptv::kTracedPassCount || !ptv::IsDenoiserPass(pass),
+      std::string("traced pass ") + info.Name + " is not a denoiser pass");
+  }
+  Check(names.size() == static_cast<std::size_t>(ptv::PassCount), "pass names are unique");
+  Check(ptv::FindPass(nullptr) == -1 && ptv::FindPass("Bogus") == -1 &&
+      ptv::FindPass("radiance") == -1,
+    "FindPass of nullptr, an unknown or a miscased name is -1");
+}
+
+void TestStoreLoad(std::mt19937& rng)
+{
+  ptv::PassBuffers b;
+  b.Resize(5, 3);
+  const ptv::TracedPassPlanes planes = b.Planes();
+  const int pixel = 7;
+  const ptv::PixelSample s = RandomSample(rng);
+  ptv::StoreSample(planes, pixel, s);
+  Check(Same(ptv::LoadSample(planes, pixel), s), "LoadSample returns what StoreSample wrote");
+  bool othersZero = true;
+  for (int p = 0; p < 15; ++p)
+  {
+    if (p != pixel)
+    {
+      const ptv::PixelSample o = ptv::LoadSample(planes, p);
+      othersZero = othersZero && o.Alpha == 0.f && o.Radiance.x == 0.f && o.Depth2 == 0.f &&
+        o.Normal2.z == 0.f && o.Footprint == 0.f;
+    }
+  }
+  Check(othersZero, "StoreSample writes only its pixel");
+  b.Store(3, s);
+  Check(Same(ptv::LoadSample(b.Planes(), 3), s), "PassBuffers::Store is StoreSample");
+}
+
+void TestSizing(std::mt19937& rng)
+{
+  ptv::PassBuffers b;
+  b.Resize(4, 2);
+  bool sized = true;
+  for (int pass = 0; pass < ptv::PassCount; ++pass)
+  {
+    const float* d = b.Data(pass);
+    for (std::size_t i = 0; i < Values(b, pass); ++i)
+    {
+      sized = sized && d[i] == 0.f;
+    }
+  }
+  Check(sized && b.GetWidth() == 4 && b.GetHeight() == 2, "Resize allocates zeroed passes");
+  b.Store(5, RandomSample(rng));
+  const float kept = b.Data(ptv::PassAlpha)[5];
+  b.Resize(4, 2);
+  Check(b.Data(ptv::PassAlpha)[5] == kept && kept != 0.f, "Resize to the same size keeps");
+  b.Resize(2, 4);
+  Check(b.Data(ptv::PassAlpha)[5] == 0.f, "Resize to another size clears");
+  b.Store(1, RandomSample(rng));
+  b.Data(ptv::PassConverged)[0] = 2.f;
+  b.Clear();
+  Check(b.Data(ptv::PassAlpha)[1] == 0.f && b.Data(ptv::PassConverged)[0] == 0.f,
+    "Clear zeroes traced and derived passes");
+}
+
+void TestAccumulate(std::mt19937& rng)
+{
+  const int w = 3, h = 2, frames = 64;
+  ptv::PassBuffers acc, frame;
+  acc.Resize(w, h);
+  frame.Resize(w, h);
+  acc.Data(ptv::PassConverged)[0] = 5.f; // a derived pass: Accumulate must leave it
+  std::vector<std::vector<double>> sum(ptv::kTracedPassCount);
+  for (int pass = 0; pass < ptv::kTracedPassCount; ++pass)
+  {
+    sum[pass].assign(Values(acc, pass), 0.0);
+  }
+  bool swapped = false;
+  for (int k = 1; k <= frames; ++k)
+  {
+    for (int p = 0; p < w * h; ++p)
+    {
+      frame.Store(p, RandomSample(rng));
+    }
+    for (int pass = 0; pass < ptv::kTracedPassCount; ++pass)
+    {
+      for (std::size_t i = 0; i < sum[pass].size(); ++i)
+      {
+        sum[pass][i] += frame.Data(pass)[i];
+      }
+    }
+    const float* firstFrame = frame.Data(ptv::PassRadiance);
+    acc.Accumulate(frame, k);
+    if (k == 1)
+    {
+      swapped = acc.Data(ptv::PassRadiance) == firstFrame;
+    }
+  }
+  Check(swapped, "the first frame is swapped in, not copied");
+  double worst = 0.0;
+  for (int pass = 0; pass < ptv::kTracedPassCount; ++pass)
+  {
+    for (std::size_t i = 0; i < sum[pass].size(); ++i)
+    {
+      worst = std::max(worst, std::abs(acc.Data(pass)[i] - sum[pass][i] / frames));
+    }
+  }
+  const double bound = 2.0 * frames * FLT_EPSILON;
+  Check(worst <= bound, "the running mean of 64 frames is their mean (worst error " +
+      std::to_string(worst) + ")");
+  Check(acc.Data(ptv::PassConverged)[0] == 5.f, "Accumulate leaves the derived passes");
+}
+}
+
+int TestPTVPassBuffers(int, char*[])
+{
+  std::mt19937 rng(60);
+  TestPassTable();
+  TestStoreLoad(rng);
+  TestSizing(rng);
+  TestAccumulate(rng);
+  return TestResult();
+}
