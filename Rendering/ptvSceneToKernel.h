@@ -37,8 +37,8 @@ bool SetVolumeTransform(vtkImageData* image, vtkVolume* vol, VolumeGrid& g, doub
 /**
  * The kept part of the volume (Kernels/ptvClipping.h): @a settings' world clipping planes moved
  * to index space with @a g's WorldToIndex, and its cropping planes to index space with the
- * image's origin and spacing (as vtkVolumeMapper converts them: clamped to the index box, each
- * pair in increasing order).
+ * image's origin and spacing (as vtkVolumeMapper converts them: clamped to the index box of
+ * @a g's Dims, each pair in increasing order).
  */
 void SetClipping(const FrameSettings& settings, vtkImageData* image, const VolumeGrid& g,
   ClipRegion& clip, FrameSignature& signature);
