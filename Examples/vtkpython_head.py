@@ -77,7 +77,7 @@ def render(args: argparse.Namespace) -> Dict[str, np.ndarray]:
 
     mapper = vtkPathTracedVolumeMapper()
     mapper.SetInputConnection(reader.GetOutputPort())
-    mapper.SetMaximumAccumulatedFrames(args.frames)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(args.frames)
     mapper.SetDenoise(not args.no_denoise)
     volume = vtkVolume()
     volume.SetMapper(mapper)

@@ -97,7 +97,7 @@ public:
    * one level that colour is 0 already. An image model has no grid: @a alpha is then a copy of
    * the Alpha pass and the colour stays.
    *
-   * With the Footprint pass (vtkPathTracedVolumeMapper::ComputeFootprint) and Footprint on
+   * With the Footprint pass (vtkPTVExpertOptions::FootprintRays) and Footprint on
    * in @a settings (the default) the pixels that it
    * marks empty space -- 0 at the pixel's four corners, its own entry and those of pixels
    * (x + 1, y), (x, y + 1), (x + 1, y + 1), clamped at the image's edge -- are set to 0 in @a out

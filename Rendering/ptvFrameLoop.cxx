@@ -140,13 +140,13 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     this->LastNonFinite = nonFinite;
   }
 
-  // The Coverage pass: asked for (ComputeCoverage), or read by the denoiser's model (its
+  // The Coverage pass: asked for (CoverageMarch), or read by the denoiser's model (its
   // "coverage" channel). Process 0, which denoises, decides for everyone.
   request.Scene.CoverageMarch =
     this->Parallel.Agree(request.Scene.CoverageMarch ||
       (request.Denoise && this->Parallel.Shows() &&
         this->Denoising.ReadsChannel(this->SettingsOf(request), "coverage"))) != 0;
-  // The Footprint pass: asked for (ComputeFootprint), or for the denoiser, which keeps the
+  // The Footprint pass: asked for (FootprintRays), or for the denoiser, which keeps the
   // pixels it marks empty black (DenoiserFootprint).
   request.Scene.FootprintRays = this->Parallel.Agree(request.Scene.FootprintRays ||
                                   (request.Denoise && request.Denoiser.Footprint &&

@@ -83,6 +83,7 @@ struct FrameRequest
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;
   double StillTimeBudget = 30.0;
+  bool ConvergeStillRenders = true; ///< the mapper's default (Still is its per-render answer)
   std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
   /// Asked between a still render's frames: true stops it (the render window's abort check).
   std::function<bool()> Abort;

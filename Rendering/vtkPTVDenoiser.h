@@ -21,7 +21,7 @@
  * its own mean (Radiance; Alpha for DenoisedAlpha) and the rest of its denoised value: the
  * denoised value counts as 4 samples (ratios <= 1, NaN or infinite, and pixels whose radiance
  * is not finite and non-negative keep it). With a "Footprint" image
- * (vtkPathTracedVolumeMapper::ComputeFootprint) the pixels whose four corners it marks 0 --
+ * (vtkPTVExpertOptions::FootprintRays) the pixels whose four corners it marks 0 --
  * empty space -- come out black (and transparent in the DenoiseAlpha opacity).
  *
  * Three more image names replace a stage, for tests and research:

@@ -1,11 +1,12 @@
 #include "vtkPathTracedVolumeMapper.h"
 
-#include "ptvCudaDevice.h"
+#include "ptvBackend.h"
 #include "ptvCpuTracer.h"
+#include "ptvCudaDevice.h"
 #include "ptvFrameLoop.h"
 #include "ptvKernelDispatch.h"
-#include "ptvBackend.h"
 #include "ptvSceneToKernel.h"
+#include "vtkPTVExpertOptions.h"
 
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
@@ -14,6 +15,7 @@
 #include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkSmartPointer.h"
 #include "vtkPlane.h"
@@ -38,6 +40,7 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   std::string BlendProblem;  // the blend-mode problem last reported
   std::string ClipProblems;  // the clipping/cropping problems last reported
   vtkSmartPointer<vtkMultiProcessController> Controller; // several processes (ptvRanks.h)
+  vtkNew<vtkPTVExpertOptions> Options;
 };
 
 vtkStandardNewMacro(vtkPathTracedVolumeMapper);
@@ -211,37 +214,21 @@ vtkPathTracedVolumeMapper::vtkPathTracedVolumeMapper()
   const ptv::FrameRequest defaults{};
   const ptv::FrameSettings& scene = defaults.Scene;
   this->SamplesPerFrame = scene.SamplesPerFrame;
-  this->MaximumAccumulatedFrames = defaults.MaximumAccumulatedFrames;
   this->TemporalReprojection = defaults.TemporalReprojection;
-  this->MaximumHistory = defaults.MaximumHistory;
+  this->ConvergeStillRenders = defaults.ConvergeStillRenders;
   this->StillQuality = defaults.StillQuality;
-  this->MaximumStillFrames = defaults.MaximumStillFrames;
   this->StillTimeBudget = defaults.StillTimeBudget;
   this->Seed = scene.Seed;
   this->Scattering = scene.Scattering;
-  this->ComputeCoverage = scene.CoverageMarch;
-  this->ExpectedCoverage = scene.ExpectedCoverage;
-  this->ComputeFootprint = scene.FootprintRays;
-  this->EdgeSamples = defaults.EdgeSamples;
-  this->ComputeEdgeSamples = defaults.ComputeEdgeSamples;
-  this->KeepEdgeMeans = defaults.KeepEdgeMeans;
   this->AmbientOcclusion = scene.AmbientOcclusion;
-  this->AmbientOcclusionReach = scene.AmbientOcclusionReach;
-  this->UseRendererLight = scene.UseRendererLight;
   this->LightIntensity = scene.LightIntensity;
-  std::copy(scene.EnvironmentColor, scene.EnvironmentColor + 3, this->EnvironmentColor);
-  this->UseBackgroundAsEnvironment = scene.UseBackgroundAsEnvironment;
   this->EnvironmentIntensity = scene.EnvironmentIntensity;
-  this->EmptySpaceSkipping = scene.EmptySpaceSkipping;
+  this->Denoise = defaults.Denoise;
   this->NumberOfThreads = defaults.Threads;
+  this->Backend = defaults.Backend;
   this->DistributedVolume = defaults.Distributed;
   std::copy(scene.PieceExtent, scene.PieceExtent + 6, this->PieceExtent);
   std::copy(scene.WholeExtent, scene.WholeExtent + 6, this->WholeExtent);
-  this->Backend = defaults.Backend;
-  this->Denoise = defaults.Denoise;
-  this->DenoiserUseNetwork = defaults.Denoiser.UseNetwork;
-  this->DenoiserFootprint = defaults.Denoiser.Footprint;
-  this->DenoiserNumberOfLevels = defaults.Denoiser.Levels;
 }
 
 //------------------------------------------------------------------------------
@@ -249,6 +236,12 @@ vtkPathTracedVolumeMapper::~vtkPathTracedVolumeMapper()
 {
   this->SetDisplayPass(nullptr);
   this->SetDenoiserModelFile(nullptr);
+}
+
+//------------------------------------------------------------------------------
+vtkPTVExpertOptions* vtkPathTracedVolumeMapper::GetExpertOptions()
+{
+  return this->Internals->Options;
 }
 
 //------------------------------------------------------------------------------
@@ -465,23 +458,24 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                                   : nullptr;
     ptv::FrameRequest request;
     ptv::FrameSettings& scene = request.Scene;
+    vtkPTVExpertOptions* options = this->Internals->Options;
     scene.Seed = this->Seed;
     scene.SamplesPerFrame = this->SamplesPerFrame;
     scene.Scattering = this->Scattering;
-    scene.CoverageMarch = this->ComputeCoverage; // the frame loop adds its model's need
-    scene.ExpectedCoverage = this->ExpectedCoverage;
-    scene.FootprintRays = this->ComputeFootprint; // and the denoiser's
+    scene.CoverageMarch = options->GetCoverageMarch(); // the frame loop adds its model's need
+    scene.ExpectedCoverage = options->GetExpectedCoverage();
+    scene.FootprintRays = options->GetFootprintRays(); // and the denoiser's
     scene.AmbientOcclusion = this->AmbientOcclusion;
-    scene.AmbientOcclusionReach = this->AmbientOcclusionReach;
-    scene.UseRendererLight = this->UseRendererLight;
+    scene.AmbientOcclusionReach = options->GetAmbientOcclusionReach();
+    scene.UseRendererLight = options->GetUseRendererLight();
     scene.LightIntensity = this->LightIntensity;
-    std::copy(this->EnvironmentColor, this->EnvironmentColor + 3, scene.EnvironmentColor);
-    scene.UseBackgroundAsEnvironment = this->UseBackgroundAsEnvironment;
+    options->GetEnvironmentColor(scene.EnvironmentColor);
+    scene.UseBackgroundAsEnvironment = options->GetUseBackgroundAsEnvironment();
     scene.EnvironmentIntensity = this->EnvironmentIntensity;
-    scene.EmptySpaceSkipping = this->EmptySpaceSkipping;
-    request.MaximumAccumulatedFrames = this->MaximumAccumulatedFrames;
+    scene.EmptySpaceSkipping = options->GetEmptySpaceSkipping();
+    request.MaximumAccumulatedFrames = options->GetMaximumAccumulatedFrames();
     request.TemporalReprojection = this->TemporalReprojection;
-    request.MaximumHistory = this->MaximumHistory;
+    request.MaximumHistory = options->GetMaximumHistory();
     request.Threads = this->NumberOfThreads;
     request.Controller = this->Internals->Controller;
     request.Distributed = this->DistributedVolume != 0;
@@ -492,17 +486,17 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
     request.Backend = this->Backend;
     request.Denoise = this->Denoise;
-    request.EdgeSamples = this->EdgeSamples;
-    request.ComputeEdgeSamples = this->ComputeEdgeSamples;
-    request.KeepEdgeMeans = this->KeepEdgeMeans;
+    request.EdgeSamples = options->GetEdgeSamples();
+    request.ComputeEdgeSamples = options->GetComputeEdgeSamples();
+    request.KeepEdgeMeans = options->GetKeepEdgeMeans();
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
-    request.Denoiser.UseNetwork = this->DenoiserUseNetwork;
-    request.Denoiser.Footprint = this->DenoiserFootprint;
-    request.Denoiser.Levels = this->DenoiserNumberOfLevels;
+    request.Denoiser.UseNetwork = options->GetDenoiserUseNetwork();
+    request.Denoiser.Footprint = options->GetDenoiserFootprint();
+    request.Denoiser.Levels = options->GetDenoiserNumberOfLevels();
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
     request.Still = this->ConvergeStillRenders && vol->GetAllocatedRenderTime() >= 1.0;
     request.StillQuality = this->StillQuality;
-    request.MaximumStillFrames = this->MaximumStillFrames;
+    request.MaximumStillFrames = options->GetMaximumStillFrames();
     request.StillTimeBudget = this->StillTimeBudget;
     request.Progress = [this](double fraction)
     {
@@ -582,27 +576,26 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SamplesPerFrame: " << this->SamplesPerFrame << "\n";
-  os << indent << "MaximumAccumulatedFrames: " << this->MaximumAccumulatedFrames << "\n";
   os << indent << "TemporalReprojection: " << this->TemporalReprojection << "\n";
-  os << indent << "MaximumHistory: " << this->MaximumHistory << "\n";
+  os << indent << "ConvergeStillRenders: " << this->ConvergeStillRenders << "\n";
+  os << indent << "StillQuality: " << this->StillQuality << " dB\n";
+  os << indent << "StillTimeBudget: " << this->StillTimeBudget << " s\n";
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Scattering: " << this->Scattering << "\n";
-  os << indent << "ComputeCoverage: " << this->ComputeCoverage << "\n";
-  os << indent << "ExpectedCoverage: " << this->ExpectedCoverage << "\n";
-  os << indent << "ComputeFootprint: " << this->ComputeFootprint << "\n";
-  os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
-  os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";
-  os << indent << "KeepEdgeMeans: " << this->KeepEdgeMeans << "\n";
   os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
-  os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
-  os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";
   os << indent << "LightIntensity: " << this->LightIntensity << "\n";
-  os << indent << "EnvironmentColor: " << this->EnvironmentColor[0] << ", "
-     << this->EnvironmentColor[1] << ", " << this->EnvironmentColor[2] << "\n";
-  os << indent << "UseBackgroundAsEnvironment: " << this->UseBackgroundAsEnvironment << "\n";
   os << indent << "EnvironmentIntensity: " << this->EnvironmentIntensity << "\n";
-  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
+  os << indent << "Denoise: " << this->Denoise << "\n";
+  os << indent << "DenoiserModelFile: "
+     << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "DisplayPass: "
+     << (this->DisplayPass && *this->DisplayPass ? this->DisplayPass : "(the default)") << "\n";
+  os << indent << "Backend: "
+     << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
+     << " (last frame: " << this->Internals->Loop.GetActiveBackend() << ")\n";
+  os << indent << "ExpertOptions:\n";
+  this->Internals->Options->PrintSelf(os, indent.GetNextIndent());
   os << indent << "Controller: "
      << (this->Internals->Controller
             ? std::to_string(this->Internals->Controller->GetNumberOfProcesses()) + " processes"
@@ -615,24 +608,9 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "WholeExtent: " << this->WholeExtent[0] << ", " << this->WholeExtent[1] << ", "
      << this->WholeExtent[2] << ", " << this->WholeExtent[3] << ", " << this->WholeExtent[4]
      << ", " << this->WholeExtent[5] << "\n";
-  os << indent << "Denoise: " << this->Denoise << "\n";
-  os << indent << "DenoiserModelFile: "
-     << (this->DenoiserModelFile ? this->DenoiserModelFile : "(shipped model)") << "\n";
-  os << indent << "DenoiserUseNetwork: " << this->DenoiserUseNetwork << "\n";
-  os << indent << "DenoiserFootprint: " << this->DenoiserFootprint << "\n";
-  os << indent << "DenoiserNumberOfLevels: " << this->DenoiserNumberOfLevels << "\n";
-  os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
-  os << indent << "DisplayPass: " << (this->DisplayPass ? this->DisplayPass : "(Radiance)")
-     << "\n";
-  os << indent << "ConvergeStillRenders: " << this->ConvergeStillRenders << "\n";
-  os << indent << "StillQuality: " << this->StillQuality << " dB\n";
-  os << indent << "MaximumStillFrames: " << this->MaximumStillFrames << "\n";
-  os << indent << "StillTimeBudget: " << this->StillTimeBudget << " s\n";
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
   os << indent << "EstimatedQuality: " << this->EstimatedQuality << " dB\n";
-  os << indent << "Backend: "
-     << (this->Backend == BACKEND_CPU ? "CPU" : (this->Backend == BACKEND_CUDA ? "CUDA" : "Auto"))
-     << " (last frame: " << this->Internals->Loop.GetActiveBackend() << ")\n";
+  os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
   os << indent << "CpuKernelTarget: " << vtkPathTracedVolumeMapper::GetCpuKernelTarget() << "\n";
   os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
 }

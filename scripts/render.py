@@ -64,7 +64,7 @@ def render(args: argparse.Namespace) -> float:
     mapper = scene.mapper
     if args.mapper == "pathtraced":
         mapper.SetSeed(args.seed)
-        mapper.SetMaximumAccumulatedFrames(max(1, args.spp))
+        mapper.GetExpertOptions().SetMaximumAccumulatedFrames(max(1, args.spp))
     frames = max(1, args.spp) if args.mapper == "pathtraced" else 1
     start = time.perf_counter()
     for _ in tqdm(range(frames), desc="frames", unit="frame", disable=frames < 8):

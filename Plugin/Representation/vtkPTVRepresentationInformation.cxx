@@ -3,6 +3,7 @@
 #include "vtkClientServerStream.h"
 #include "vtkCompositeRepresentation.h"
 #include "vtkObjectFactory.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPTVVolumeRepresentation.h"
 #include "vtkPathTracedVolumeMapper.h"
 
@@ -35,7 +36,7 @@ void vtkPTVRepresentationInformation::CopyFromObject(vtkObject* object)
     return;
   }
   this->AccumulatedFrames = mapper->GetAccumulatedFrames();
-  this->MaximumAccumulatedFrames = mapper->GetMaximumAccumulatedFrames();
+  this->MaximumAccumulatedFrames = mapper->GetExpertOptions()->GetMaximumAccumulatedFrames();
   this->LastRenderTraced = mapper->GetLastRenderTraced();
   this->NeedsRefinement = repr->GetNeedsRefinement();
   this->LastTraceTime = mapper->GetLastTraceTime();

@@ -10,6 +10,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPTVEXRPassWriter.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPVSession.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
@@ -106,7 +107,7 @@ vtkPTVVolumeRepresentation::vtkPTVVolumeRepresentation()
   this->VolumeMapper.TakeReference(vtkPathTracedVolumeMapper::New());
   // The environment light takes the view's Background property (REQUEST_RENDER below), not the
   // renderer's background: on a pvserver the compositing pass renders on another background.
-  this->GetPathTracedMapper()->SetUseBackgroundAsEnvironment(false);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetUseBackgroundAsEnvironment(false);
 }
 
 //------------------------------------------------------------------------------
@@ -142,7 +143,7 @@ int vtkPTVVolumeRepresentation::ProcessViewRequest(
     auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
     if (view)
     {
-      mapper->SetEnvironmentColor(view->GetBackground());
+      mapper->GetExpertOptions()->SetEnvironmentColor(view->GetBackground());
     }
     // Captures and script renders converge; the GUI's other still renders trace one frame.
     const bool capturing = view && CaptureFlag::Get(view);
@@ -306,7 +307,7 @@ bool vtkPTVVolumeRepresentation::GetNeedsRefinement()
   vtkPathTracedVolumeMapper* mapper = this->GetPathTracedMapper();
   return mapper && this->GetVisibility() && this->Actor->GetVisibility() &&
     mapper->GetLastRenderTraced() &&
-    mapper->GetAccumulatedFrames() < mapper->GetMaximumAccumulatedFrames();
+    mapper->GetAccumulatedFrames() < mapper->GetExpertOptions()->GetMaximumAccumulatedFrames();
 }
 
 //------------------------------------------------------------------------------
@@ -324,13 +325,13 @@ void vtkPTVVolumeRepresentation::SetTemporalReprojection(bool value)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetMaximumHistory(int value)
 {
-  this->GetPathTracedMapper()->SetMaximumHistory(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetMaximumHistory(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetMaximumAccumulatedFrames(int value)
 {
-  this->GetPathTracedMapper()->SetMaximumAccumulatedFrames(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetMaximumAccumulatedFrames(value);
 }
 
 //------------------------------------------------------------------------------
@@ -348,7 +349,7 @@ void vtkPTVVolumeRepresentation::SetScattering(bool value)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetExpectedCoverage(bool value)
 {
-  this->GetPathTracedMapper()->SetExpectedCoverage(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetExpectedCoverage(value);
 }
 
 //------------------------------------------------------------------------------
@@ -360,13 +361,13 @@ void vtkPTVVolumeRepresentation::SetAmbientOcclusion(bool value)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetAmbientOcclusionReach(double value)
 {
-  this->GetPathTracedMapper()->SetAmbientOcclusionReach(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetAmbientOcclusionReach(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetUseRendererLight(bool value)
 {
-  this->GetPathTracedMapper()->SetUseRendererLight(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetUseRendererLight(value);
 }
 
 //------------------------------------------------------------------------------
@@ -384,7 +385,7 @@ void vtkPTVVolumeRepresentation::SetEnvironmentIntensity(double value)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetEmptySpaceSkipping(bool value)
 {
-  this->GetPathTracedMapper()->SetEmptySpaceSkipping(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetEmptySpaceSkipping(value);
 }
 
 //------------------------------------------------------------------------------
@@ -414,31 +415,31 @@ void vtkPTVVolumeRepresentation::SetDenoiserModelFile(const char* path)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserUseNetwork(bool value)
 {
-  this->GetPathTracedMapper()->SetDenoiserUseNetwork(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetDenoiserUseNetwork(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserFootprint(bool value)
 {
-  this->GetPathTracedMapper()->SetDenoiserFootprint(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetDenoiserFootprint(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetEdgeSamples(int value)
 {
-  this->GetPathTracedMapper()->SetEdgeSamples(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetEdgeSamples(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetKeepEdgeMeans(bool value)
 {
-  this->GetPathTracedMapper()->SetKeepEdgeMeans(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetKeepEdgeMeans(value);
 }
 
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
 {
-  this->GetPathTracedMapper()->SetDenoiserNumberOfLevels(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetDenoiserNumberOfLevels(value);
 }
 
 //------------------------------------------------------------------------------
@@ -481,7 +482,7 @@ void vtkPTVVolumeRepresentation::SetStillQuality(double value)
 //------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetMaximumStillFrames(int value)
 {
-  this->GetPathTracedMapper()->SetMaximumStillFrames(value);
+  this->GetPathTracedMapper()->GetExpertOptions()->SetMaximumStillFrames(value);
 }
 
 //------------------------------------------------------------------------------

@@ -105,10 +105,10 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
         got["portable"] = render_ours(0, portable=True)
         ours.DenoiseOn()
         got["end_to_end"] = render_ours(0)
-        edge_samples = ours.GetEdgeSamples()
-        ours.SetEdgeSamples(1)  # the same frame without EdgeSamples
+        edge_samples = ours.GetExpertOptions().GetEdgeSamples()
+        ours.GetExpertOptions().SetEdgeSamples(1)  # the same frame without EdgeSamples
         got["end_to_end_plain"] = render_ours(0)
-        ours.SetEdgeSamples(edge_samples)
+        ours.GetExpertOptions().SetEdgeSamples(edge_samples)
         ours.DenoiseOff()
         if round_ > 0:
             for k in keys:

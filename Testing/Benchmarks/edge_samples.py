@@ -50,8 +50,8 @@ def parse_args() -> argparse.Namespace:
 def frame(scene: Any, view: Dict[str, Any], seed: int, count: int) -> Any:
     """A fresh 1-spp frame of ``view`` with EdgeSamples ``count``; returns the mapper."""
     mapper = scene.set_view(view, seed=seed, max_frames=1, footprint=True)
-    mapper.SetEdgeSamples(count)
-    mapper.SetComputeEdgeSamples(count > 1)
+    mapper.GetExpertOptions().SetEdgeSamples(count)
+    mapper.GetExpertOptions().SetComputeEdgeSamples(count > 1)
     scene.render(1)
     return mapper
 
@@ -106,8 +106,8 @@ def main() -> int:
                 for r in range(a.rounds):
                     for count in a.counts:
                         mapper = scene.set_view(view, seed=100 + r, max_frames=2, footprint=True)
-                        mapper.SetEdgeSamples(count)
-                        mapper.SetComputeEdgeSamples(count > 1)
+                        mapper.GetExpertOptions().SetEdgeSamples(count)
+                        mapper.GetExpertOptions().SetComputeEdgeSamples(count > 1)
                         scene.render(2)
                         times[count].append(float(mapper.GetLastTraceTime()))
                 for row in rows[-len(a.counts):]:

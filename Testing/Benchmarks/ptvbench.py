@@ -133,8 +133,8 @@ make_property = scene.volume_property
 class BenchScene(scene.Scene):
     """:class:`pathtracedvolume.scene.Scene` as the benchmarks use it: path traced, Denoise
     off (they denoise the passes themselves) with the Coverage and Footprint passes traced as the
-    mapper traces them when it denoises with the shipped model (ComputeCoverage,
-    ComputeFootprint), a view at ``azimuth`` 30 and ``elevation`` 10
+    mapper traces them when it denoises with the shipped model (CoverageMarch,
+    FootprintRays), a view at ``azimuth`` 30 and ``elevation`` 10
     by default, the mapper's default key light times ``light_intensity``; :meth:`render` starts
     a fresh accumulation with a seed."""
 
@@ -145,8 +145,8 @@ class BenchScene(scene.Scene):
         super().__init__(volume, prop, size, azimuth, elevation, denoise=False,
                          threads=threads, background=background)
         self.mapper.SetLightIntensity(float(light_intensity))
-        self.mapper.ComputeCoverageOn()
-        self.mapper.ComputeFootprintOn()
+        self.mapper.GetExpertOptions().CoverageMarchOn()
+        self.mapper.GetExpertOptions().FootprintRaysOn()
 
     def orbit(self, azimuth: float, elevation: float = 10.0, dolly: float = 1.0) -> None:
         """Another view (:func:`pathtracedvolume.scene.place_camera`)."""
@@ -157,7 +157,7 @@ class BenchScene(scene.Scene):
         """Start a fresh accumulation with ``seed`` and render ``frames`` 1-spp frames; returns
         each frame's trace milliseconds; ``on_frame(k)`` after frame k (1-based)."""
         self.mapper.SetSeed(int(seed))
-        self.mapper.SetMaximumAccumulatedFrames(max(int(frames), 1))
+        self.mapper.GetExpertOptions().SetMaximumAccumulatedFrames(max(int(frames), 1))
         self.mapper.ResetAccumulation()
         return super().render(frames, on_frame)
 

@@ -171,8 +171,8 @@ class Orbit:
         same random numbers per pixel in every view)."""
         m = self.mapper
         m.SetTemporalReprojection(bool(reprojection))
-        m.SetMaximumHistory(int(history))
-        m.SetMaximumAccumulatedFrames(1024)
+        m.GetExpertOptions().SetMaximumHistory(int(history))
+        m.GetExpertOptions().SetMaximumAccumulatedFrames(1024)
         m.SetSeed(seed)
         self.set_tf(False)
         m.ResetAccumulation()
@@ -295,7 +295,7 @@ def static_flicker(o: Orbit, frames: int) -> List[Dict[str, Any]]:
                                          "OIDN fast per fresh frame": []}
     m = o.mapper
     m.SetTemporalReprojection(True)
-    m.SetMaximumAccumulatedFrames(1024)
+    m.GetExpertOptions().SetMaximumAccumulatedFrames(1024)
     m.SetSeed(3000)
     m.ResetAccumulation()
     for _ in range(frames):
@@ -374,7 +374,8 @@ def markdown(rows: Sequence[Dict[str, Any]], flick: Sequence[Dict[str, Any]],
         g = r["gains_around_change"]
         md.append(f"\n{r['dataset']}, {r['case']}, {r['method']}: longest history in the frame "
                   f"of the change {r['history_max_at_change']:.0f} (1 = dropped). Over the run "
-                  "without reuse (TemporalReprojection off), the history adds to the raw mean / to the shown "
+                  "without reuse (TemporalReprojection off), the history adds to the raw mean "
+                  "/ to the shown "
                   f"image: before the change {g['before']['raw_mean']:+.2f} / "
                   f"{g['before']['shown_mean']:+.2f} dB (worst frame "
                   f"{g['before']['shown_worst']:+.2f}), after it {g['after']['raw_mean']:+.2f}"

@@ -18,6 +18,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPTVOpenVDBReader.h"
 #include "vtkPTVOpenVDBWriter.h"
 #include "vtkPathTracedVolumeMapper.h"
@@ -501,7 +502,7 @@ void OnePixelViewport()
 {
   Scene s(Volume(), 1);
   s.Mapper->DenoiseOn();
-  s.Mapper->DenoiserUseNetworkOff();
+  s.Mapper->GetExpertOptions()->DenoiserUseNetworkOff();
   s.Renderer->GetActiveCamera()->Zoom(8); // the one pixel looks at the volume
   s.Window->Render();
   s.ExpectQuiet("1x1 viewport");
@@ -518,7 +519,7 @@ void TransferTransparent()
   s.Opacity->AddPoint(0, 0);
   s.Opacity->AddPoint(6, 0);
   s.Mapper->DenoiseOn();
-  s.Mapper->DenoiserUseNetworkOff();
+  s.Mapper->GetExpertOptions()->DenoiserUseNetworkOff();
   s.Window->Render();
   s.ExpectQuiet("transparent transfer function");
   ExpectFrame(s, "transparent transfer function");
@@ -536,7 +537,7 @@ void TransferOpaque()
   s.Opacity->AddPoint(0, 1);
   s.Opacity->AddPoint(6, 1);
   s.Mapper->DenoiseOn();
-  s.Mapper->DenoiserUseNetworkOff();
+  s.Mapper->GetExpertOptions()->DenoiserUseNetworkOff();
   s.Window->Render();
   s.ExpectQuiet("opaque transfer function");
   ExpectFrame(s, "opaque transfer function");

@@ -11,6 +11,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -58,7 +59,8 @@ Images RenderScene(int which, int frames, std::atomic<int>* ready)
   mapper->SetSeed(11 + which);
   mapper->SetNumberOfThreads(1 + which);
   mapper->DenoiseOn();
-  mapper->DenoiserUseNetworkOff(); // model-independent; the network has its own tests
+  // model-independent; the network has its own tests
+  mapper->GetExpertOptions()->DenoiserUseNetworkOff();
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);

@@ -10,6 +10,7 @@
 #include "vtkNew.h"
 #include "ptvCudaParity.h"
 #include "vtkPTVDenoiser.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -67,7 +68,7 @@ Frames Render(int backend, int frames)
   mapper->SetInputConnection(source->GetOutputPort());
   mapper->DenoiseOff();
   mapper->SetBackend(backend);
-  mapper->SetMaximumAccumulatedFrames(frames);
+  mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(frames);
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);

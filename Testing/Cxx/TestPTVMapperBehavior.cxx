@@ -24,6 +24,7 @@
 #include "vtkLight.h"
 #include "vtkPlane.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -75,7 +76,7 @@ bool AllFinite(const std::vector<float>& v)
 void TestAccumulation()
 {
   Scene s;
-  s.Mapper->SetMaximumAccumulatedFrames(3);
+  s.Mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(3);
   s.Window->Render();
   Check(s.Mapper->GetAccumulatedFrames() == 1 && s.Mapper->GetLastRenderTraced(), "first frame");
   s.Window->Render();
@@ -88,7 +89,7 @@ void TestAccumulation()
   s.Window->Render();
   Check(s.Mapper->GetAccumulatedFrames() == 3, "DisplayPass change keeps the accumulation");
   s.Mapper->SetDisplayPass(nullptr);
-  s.Mapper->SetMaximumAccumulatedFrames(100);
+  s.Mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(100);
   s.Window->Render();
   vtkNew<vtkWindowToImageFilter> grab; // re-renders; VTK nudges the view angle by ~1e-8
   grab->SetInput(s.Window);
@@ -180,8 +181,8 @@ void TestDenoise()
 {
   Scene s(48);
   s.Mapper->DenoiseOn();
-  s.Mapper->DenoiserUseNetworkOff(); // deterministic and model-independent
-  s.Mapper->SetMaximumAccumulatedFrames(2);
+  s.Mapper->GetExpertOptions()->DenoiserUseNetworkOff(); // deterministic and model-independent
+  s.Mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(2);
   s.Window->Render();
   Check(s.Mapper->GetLastDenoiseTime() > 0.0, "a traced frame is denoised");
   Check(std::string(s.Mapper->GetDenoiserStatus()).find("fixed guide") == 0,
@@ -197,7 +198,7 @@ void TestDenoise()
   s.Window->Render(); // accumulation limit reached: neither traced nor denoised again
   Check(!s.Mapper->GetLastRenderTraced() && s.Mapper->GetLastDenoiseTime() == 0.0,
     "nothing new, nothing denoised");
-  s.Mapper->SetDenoiserNumberOfLevels(1);
+  s.Mapper->GetExpertOptions()->SetDenoiserNumberOfLevels(1);
   s.Window->Render();
   Check(s.Mapper->GetLastDenoiseTime() > 0.0 && s.Mapper->GetAccumulatedFrames() == 2,
     "a denoiser setting re-denoises without restarting the accumulation");
@@ -227,7 +228,8 @@ void TestDeterminism()
     s.Mapper->SetNumberOfThreads(2);
     s.Window->Render();
     two = s.Pass("Radiance");
-    s.Mapper->EmptySpaceSkippingOff(); // does not change the image, so it keeps accumulating:
+    // does not change the image, so it keeps accumulating:
+    s.Mapper->GetExpertOptions()->EmptySpaceSkippingOff();
     s.Mapper->ResetAccumulation();      // start again to compare frame 0 with frame 0
     s.Window->Render();
     noSkip = s.Pass("Radiance");
@@ -468,11 +470,11 @@ void TestIsosurface()
   s.Property->GetIsoSurfaceValues()->SetValue(1, 180.0);
   s.Window->Render();
   const auto skipped = s.Pass("Radiance");
-  s.Mapper->EmptySpaceSkippingOff();
+  s.Mapper->GetExpertOptions()->EmptySpaceSkippingOff();
   s.Mapper->ResetAccumulation(); // skipping does not sign the accumulation: compare first frames
   s.Window->Render();
   Check(s.Pass("Radiance") == skipped, "isosurfaces: skipping does not change the image");
-  s.Mapper->EmptySpaceSkippingOn();
+  s.Mapper->GetExpertOptions()->EmptySpaceSkippingOn();
 
   // Bad iso values: NaN is ignored with one warning; no values draws nothing, one warning.
   obs->Clear();

@@ -21,6 +21,7 @@
 #include "vtkPointData.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPlane.h"
 #include "vtkPTVTransferFunctionPreset.h"
 #include "vtkPathTracedVolumeMapper.h"
@@ -111,7 +112,8 @@ int TestPTVMapperImage(int argc, char* argv[])
   vtkNew<vtkImageData> rgba; // the rgba case's input
   mapper->SetSeed(7);
   mapper->SetDenoise(name == "head_1spp_fixedguide"); // tracer images are compared undenoised
-  mapper->DenoiserUseNetworkOff(); // the fixed guide does not change when a model ships
+  // the fixed guide does not change when a model ships
+  mapper->GetExpertOptions()->DenoiserUseNetworkOff();
   if (head)
   {
     const std::string file = ArgAfter(argc, argv, "-D") + "/head.vti";
@@ -248,7 +250,7 @@ int TestPTVMapperImage(int argc, char* argv[])
     property->GetIsoSurfaceValues()->SetValue(1, 700.0);
   }
   const int frames = accumulate ? 256 : (sixteen ? 16 : 1);
-  mapper->SetMaximumAccumulatedFrames(frames);
+  mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(frames);
   for (int i = 0; i < frames; ++i)
   {
     window->Render();

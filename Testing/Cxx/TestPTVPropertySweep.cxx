@@ -18,6 +18,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -56,8 +57,12 @@ struct Reports
     this->Observer->SetCallback(
       [](vtkObject*, unsigned long, void* client, void* text)
       { static_cast<std::vector<std::string>*>(client)->emplace_back(static_cast<char*>(text)); });
-    mapper->AddObserver(vtkCommand::WarningEvent, this->Observer);
-    mapper->AddObserver(vtkCommand::ErrorEvent, this->Observer);
+    for (vtkObject* o : { static_cast<vtkObject*>(mapper),
+           static_cast<vtkObject*>(mapper->GetExpertOptions()) })
+    {
+      o->AddObserver(vtkCommand::WarningEvent, this->Observer);
+      o->AddObserver(vtkCommand::ErrorEvent, this->Observer);
+    }
   }
   std::size_t Count() const { return this->Texts.size(); }
 };
@@ -85,21 +90,34 @@ struct Numeric
     #name, lo, hi, false, [](Mapper* m, double v) { m->Set##name(v); },                          \
       [](Mapper* m) { return m->Get##name(); }                                                   \
   }
+#define PTV_INT_OPTION(name, lo, hi)                                                              \
+  Numeric                                                                                        \
+  {                                                                                              \
+    #name, lo, hi, true,                                                                         \
+      [](Mapper* m, double v) { m->GetExpertOptions()->Set##name(static_cast<int>(v)); },        \
+      [](Mapper* m) { return static_cast<double>(m->GetExpertOptions()->Get##name()); }          \
+  }
+#define PTV_DOUBLE_OPTION(name, lo, hi)                                                           \
+  Numeric                                                                                        \
+  {                                                                                              \
+    #name, lo, hi, false, [](Mapper* m, double v) { m->GetExpertOptions()->Set##name(v); },      \
+      [](Mapper* m) { return m->GetExpertOptions()->Get##name(); }                               \
+  }
 
 const std::vector<Numeric>& NumericProperties()
 {
   static const std::vector<Numeric> properties = {
     PTV_INT_PROPERTY(SamplesPerFrame, 1, 4096),
-    PTV_INT_PROPERTY(MaximumAccumulatedFrames, 1, 1000000),
-    PTV_INT_PROPERTY(MaximumHistory, 1, 1000000),
+    PTV_INT_OPTION(MaximumAccumulatedFrames, 1, 1000000),
+    PTV_INT_OPTION(MaximumHistory, 1, 1000000),
     PTV_DOUBLE_PROPERTY(StillQuality, 10.0, 100.0),
-    PTV_INT_PROPERTY(MaximumStillFrames, 1, 1000000),
+    PTV_INT_OPTION(MaximumStillFrames, 1, 1000000),
     PTV_DOUBLE_PROPERTY(StillTimeBudget, 0.0, 1e6),
-    PTV_INT_PROPERTY(EdgeSamples, 1, 64),
-    PTV_DOUBLE_PROPERTY(AmbientOcclusionReach, 0.0, 1.0),
+    PTV_INT_OPTION(EdgeSamples, 1, 64),
+    PTV_DOUBLE_OPTION(AmbientOcclusionReach, 0.0, 1.0),
     PTV_DOUBLE_PROPERTY(LightIntensity, 0.0, 1e6),
     PTV_DOUBLE_PROPERTY(EnvironmentIntensity, 0.0, 1e6),
-    PTV_INT_PROPERTY(DenoiserNumberOfLevels, 0, 3),
+    PTV_INT_OPTION(DenoiserNumberOfLevels, 0, 3),
     PTV_INT_PROPERTY(NumberOfThreads, 0, 1024),
     PTV_INT_PROPERTY(Backend, Mapper::BACKEND_AUTO, Mapper::BACKEND_CUDA),
   };
@@ -158,11 +176,11 @@ void TestSetters(std::mt19937& rng)
     }
   }
   // The colour: each component in [0, 1]; one warning per rejected component.
-  mapper->SetEnvironmentColor(0.25, 0.5, 0.75);
+  mapper->GetExpertOptions()->SetEnvironmentColor(0.25, 0.5, 0.75);
   const std::size_t seen = reports.Count();
-  mapper->SetEnvironmentColor(-1.0, std::numeric_limits<double>::quiet_NaN(),
+  mapper->GetExpertOptions()->SetEnvironmentColor(-1.0, std::numeric_limits<double>::quiet_NaN(),
     std::numeric_limits<double>::infinity());
-  const double* rgb = mapper->GetEnvironmentColor();
+  const double* rgb = mapper->GetExpertOptions()->GetEnvironmentColor();
   Check(rgb[0] == 0.0 && rgb[1] == 0.5 && rgb[2] == 1.0 && reports.Count() - seen == 3,
     "SetEnvironmentColor(-1, nan, inf) gives (0, 0.5, 1) with three warnings");
 }
@@ -270,30 +288,31 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
       p.Set(mapper, Draw(p, rng));
     }
     mapper->SetSamplesPerFrame(pick(-2, 6));
-    mapper->SetMaximumStillFrames(pick(-1, 24));
-    mapper->SetMaximumAccumulatedFrames(pick(0, 32));
+    mapper->GetExpertOptions()->SetMaximumStillFrames(pick(-1, 24));
+    mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(pick(0, 32));
     mapper->SetStillTimeBudget(0.05 + 0.4 * unit(rng));
     mapper->SetNumberOfThreads(pick(-1, 4));
     mapper->SetSeed(static_cast<unsigned int>(rng()));
     mapper->SetTemporalReprojection(coin());
     mapper->SetConvergeStillRenders(coin());
     mapper->SetScattering(coin());
-    mapper->SetComputeCoverage(coin());
-    mapper->SetExpectedCoverage(coin());
-    mapper->SetComputeFootprint(coin());
-    mapper->SetComputeEdgeSamples(coin());
-    mapper->SetKeepEdgeMeans(coin());
+    mapper->GetExpertOptions()->SetCoverageMarch(coin());
+    mapper->GetExpertOptions()->SetExpectedCoverage(coin());
+    mapper->GetExpertOptions()->SetFootprintRays(coin());
+    mapper->GetExpertOptions()->SetComputeEdgeSamples(coin());
+    mapper->GetExpertOptions()->SetKeepEdgeMeans(coin());
     mapper->SetAmbientOcclusion(coin());
-    mapper->SetUseRendererLight(coin());
+    mapper->GetExpertOptions()->SetUseRendererLight(coin());
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    mapper->SetEnvironmentColor(2.0 * unit(rng) - 0.5, unit(rng) < 0.2 ? nan : unit(rng),
+    mapper->GetExpertOptions()->SetEnvironmentColor(2.0 * unit(rng) - 0.5,
+      unit(rng) < 0.2 ? nan : unit(rng),
       unit(rng) < 0.1 ? std::numeric_limits<double>::infinity() : 3.0 * unit(rng));
-    mapper->SetUseBackgroundAsEnvironment(coin());
-    mapper->SetEmptySpaceSkipping(coin());
+    mapper->GetExpertOptions()->SetUseBackgroundAsEnvironment(coin());
+    mapper->GetExpertOptions()->SetEmptySpaceSkipping(coin());
     mapper->SetDenoise(coin());
     mapper->SetDenoiserModelFile(models[pick(0, 3)]);
-    mapper->SetDenoiserUseNetwork(coin());
-    mapper->SetDenoiserFootprint(coin());
+    mapper->GetExpertOptions()->SetDenoiserUseNetwork(coin());
+    mapper->GetExpertOptions()->SetDenoiserFootprint(coin());
     mapper->SetDisplayPass(displays[pick(0, 8)]);
     const bool distributed = unit(rng) < 0.25; // one process: the piece is the whole volume
     mapper->SetDistributedVolume(distributed);
@@ -333,8 +352,9 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
     std::ostringstream label;
     label << v.Name << ", trial " << trial << " (" << (still ? "still" : "interactive")
           << ", SamplesPerFrame " << mapper->GetSamplesPerFrame() << ", MaximumStillFrames "
-          << mapper->GetMaximumStillFrames() << ", MaximumAccumulatedFrames "
-          << mapper->GetMaximumAccumulatedFrames() << ", budget " << mapper->GetStillTimeBudget()
+          << mapper->GetExpertOptions()->GetMaximumStillFrames() << ", MaximumAccumulatedFrames "
+          << mapper->GetExpertOptions()->GetMaximumAccumulatedFrames() << ", budget "
+          << mapper->GetStillTimeBudget()
           << " s, Denoise " << mapper->GetDenoise() << ", Backend " << mapper->GetBackend()
           << ", DisplayPass " << (mapper->GetDisplayPass() ? mapper->GetDisplayPass() : "null")
           << ", Distributed " << distributed << ")";
@@ -343,7 +363,8 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
     const double seconds = vtkTimerLog::GetUniversalTime() - start;
     const int frames = mapper->GetLastRenderFrames();
     const bool converging = still && mapper->GetConvergeStillRenders();
-    const int cap = std::min(mapper->GetMaximumStillFrames(), mapper->GetMaximumAccumulatedFrames());
+    const int cap = std::min(mapper->GetExpertOptions()->GetMaximumStillFrames(),
+      mapper->GetExpertOptions()->GetMaximumAccumulatedFrames());
     if (converging)
     {
       Check(frames <= cap, label.str() + ": " + std::to_string(frames) + " frames");

@@ -21,6 +21,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -156,7 +157,7 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
   s.Window->SetDesiredUpdateRate(0.0001);
 
   s.Mapper->SetStillQuality(100.0); // out of reach
-  s.Mapper->SetMaximumStillFrames(5);
+  s.Mapper->GetExpertOptions()->SetMaximumStillFrames(5);
   s.Mapper->ResetAccumulation();
   s.Window->Render();
   Check(s.Mapper->GetLastRenderFrames() == 5 && !s.Mapper->GetStillConverged(),
@@ -170,7 +171,7 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
     [](vtkObject*, unsigned long, void* client, void* text)
     { static_cast<std::vector<std::string>*>(client)->emplace_back(static_cast<char*>(text)); });
   s.Mapper->AddObserver(vtkCommand::WarningEvent, observer);
-  s.Mapper->SetMaximumStillFrames(1000000);
+  s.Mapper->GetExpertOptions()->SetMaximumStillFrames(1000000);
   s.Mapper->SetStillTimeBudget(0.3);
   for (int render = 0; render < 2; ++render)
   {
@@ -179,7 +180,8 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
     s.Window->Render();
     const double seconds = vtkTimerLog::GetUniversalTime() - start;
     Check(s.Mapper->GetLastRenderFrames() >= 1 &&
-        s.Mapper->GetLastRenderFrames() < s.Mapper->GetMaximumAccumulatedFrames() &&
+        s.Mapper->GetLastRenderFrames() <
+          s.Mapper->GetExpertOptions()->GetMaximumAccumulatedFrames() &&
         !s.Mapper->GetStillConverged() && seconds < 30.0,
       label + "StillTimeBudget stops a still render (" + std::to_string(seconds) + " s)");
   }

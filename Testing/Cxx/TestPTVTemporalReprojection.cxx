@@ -22,6 +22,7 @@
 #include "vtkCamera.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
+#include "vtkPTVExpertOptions.h"
 #include "vtkPiecewiseFunction.h"
 
 #include <algorithm>
@@ -41,7 +42,7 @@ struct Scene : AnalyticScene
   {
     this->Mapper->ConvergeStillRendersOff();
     this->Mapper->DenoiseOff();
-    this->Mapper->SetMaximumHistory(1000);
+    this->Mapper->GetExpertOptions()->SetMaximumHistory(1000);
     vtkCamera* camera = this->Renderer->GetActiveCamera();
     camera->ParallelProjectionOn();
     this->Renderer->ResetCamera();
@@ -258,7 +259,7 @@ void TestBackgroundAroundTheVolume()
 void TestHistoryCapAndStillAfterMove()
 {
   Scene s;
-  s.Mapper->SetMaximumHistory(4);
+  s.Mapper->GetExpertOptions()->SetMaximumHistory(4);
   s.Frames(16);
   s.Pan(1.0);
   s.Frames(1);
@@ -275,7 +276,7 @@ void TestHistoryCapAndStillAfterMove()
 void TestTurnFade()
 {
   Scene s;
-  s.Mapper->SetMaximumHistory(4);
+  s.Mapper->GetExpertOptions()->SetMaximumHistory(4);
   s.Frames(8);
   s.Renderer->GetActiveCamera()->Azimuth(2.0);
   s.Frames(1);

@@ -347,16 +347,16 @@ print("DenoiserNumberOfLevels=1: mean |diff| = %.2f/255" % mean)
 check(mean > 0.2 and not traced, "DenoiserNumberOfLevels changes the denoised image only")
 display.DenoiserNumberOfLevels = 0
 
-check(mapper().GetEdgeSamples() == 3 and mapper().GetLastEdgeFraction() > 0,
+check(mapper().GetExpertOptions().GetEdgeSamples() == 3 and mapper().GetLastEdgeFraction() > 0,
       "a denoised frame gets EdgeSamples (default 3) on the volume's edges")
 display.EdgeSamples = 1
-check(mapper().GetEdgeSamples() == 1, "EdgeSamples reaches the mapper")
+check(mapper().GetExpertOptions().GetEdgeSamples() == 1, "EdgeSamples reaches the mapper")
 display.EdgeSamples = 3
 
-check(not mapper().GetExpectedCoverage(), "ExpectedCoverage is off by default")
+check(not mapper().GetExpertOptions().GetExpectedCoverage(), "ExpectedCoverage is off by default")
 display.ExpectedCoverage = 1
 Render(view)
-check(mapper().GetExpectedCoverage() and mapper().GetAccumulatedFrames() == 1,
+check(mapper().GetExpertOptions().GetExpectedCoverage() and mapper().GetAccumulatedFrames() == 1,
       "ExpectedCoverage reaches the mapper and restarts the accumulation")
 display.ExpectedCoverage = 0
 

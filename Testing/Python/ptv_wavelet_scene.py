@@ -89,7 +89,7 @@ def set_traced_passes(mapper: Any, denoiser: Any) -> list:
 
     images = []
     names = [mapper.GetPassName(i) for i in range(TRACED_PASSES)]
-    if mapper.GetKeepEdgeMeans() and mapper.GetAccumulatedFrames() < 2:
+    if mapper.GetExpertOptions().GetKeepEdgeMeans() and mapper.GetAccumulatedFrames() < 2:
         names.append("SampleRatio")
     for name in names:
         image = vtkImageData()

@@ -33,7 +33,7 @@ def test_converged_pass_is_the_trained_blend() -> None:
     mapper = scene.mapper
     mapper.ConvergeStillRendersOff()
     mapper.SetSeed(3)
-    mapper.SetMaximumAccumulatedFrames(FRAMES)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(FRAMES)
     mapper.ResetAccumulation()
     moments = cb.SecondMoment()
     checked = 0

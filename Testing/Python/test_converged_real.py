@@ -34,14 +34,14 @@ def test_converged_image_improves_with_samples_on_the_head() -> None:
     mapper = scene.mapper
     mapper.SetSamplesPerFrame(16)
     mapper.SetSeed(1000)
-    mapper.SetMaximumAccumulatedFrames(16)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(16)
     mapper.ResetAccumulation()
     scene.render(16)
     reference = scene.get_pass("Radiance")
 
     mapper.SetSamplesPerFrame(1)
     mapper.SetDenoise(True)
-    mapper.SetMaximumAccumulatedFrames(max(READS))
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(max(READS))
     seen: Dict[int, List[List[float]]] = {k: [] for k in READS}
     for seed in SEEDS:
         mapper.SetSeed(seed)

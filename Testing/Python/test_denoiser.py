@@ -54,8 +54,9 @@ def render_passes(frames: int = 1) -> dict[str, np.ndarray]:
     mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.DenoiseOff()
-    mapper.ComputeCoverageOn()  # the camera rays' opacity, as a model with "coverage" needs
-    mapper.SetMaximumAccumulatedFrames(frames)
+    # the camera rays' opacity, as a model with "coverage" needs
+    mapper.GetExpertOptions().CoverageMarchOn()
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(frames)
     volume = vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)
@@ -265,11 +266,11 @@ def test_coverage_channel_matches_python(passes, tmp_path, portable) -> None:
 
 
 def test_mapper_coverage_pass(tmp_path) -> None:
-    """The mapper's Coverage pass: Alpha unless the march is on; with ComputeCoverage each
+    """The mapper's Coverage pass: Alpha unless the march is on; with CoverageMarch each
     camera ray's opacity -- fractional in the translucent wavelet, every other pass bit for bit
     as without it, and its mean that of Alpha over 64 frames (its expectation; within 5
     standard errors of the gap); with Denoise and a model that reads "coverage" the mapper
-    marches by itself (ComputeCoverage off), with a model that does not it does not."""
+    marches by itself (CoverageMarch off), with a model that does not it does not."""
     from ptv_wavelet_scene import get_pass, wavelet_scene
 
     size = (40, 30)
@@ -277,11 +278,12 @@ def test_mapper_coverage_pass(tmp_path) -> None:
     def run(compute: bool, model: Path | None = None, frames: int = 1) -> dict:
         window, mapper, keep = wavelet_scene(size, opacity=0.15, seed=5,
                                              denoise=model is not None)
-        mapper.SetComputeCoverage(compute)
+        mapper.GetExpertOptions().SetCoverageMarch(compute)
         if model is not None:
             mapper.SetDenoiserModelFile(str(model))
-            mapper.SetEdgeSamples(1)  # the passes of the frame alone (test_edge_samples.py)
-        mapper.SetMaximumAccumulatedFrames(frames)
+            # the passes of the frame alone (test_edge_samples.py)
+            mapper.GetExpertOptions().SetEdgeSamples(1)
+        mapper.GetExpertOptions().SetMaximumAccumulatedFrames(frames)
         for _ in range(frames):
             window.Render()
         return {name: get_pass(mapper, name, size) for name in TRACED}

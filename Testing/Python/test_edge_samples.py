@@ -26,11 +26,11 @@ def render(count: int, compute: bool, denoise: bool = False, seed: int = 3,
     """One fresh frame of the wavelet zoomed out (a silhouette against empty space)."""
     window, mapper, keep = wavelet_scene(SIZE, opacity=0.6, seed=seed, denoise=denoise)
     keep[3].GetActiveCamera().Zoom(0.6)
-    mapper.SetMaximumAccumulatedFrames(1)
-    mapper.ComputeCoverageOn()
-    mapper.SetComputeFootprint(footprint)
-    mapper.SetEdgeSamples(count)
-    mapper.SetComputeEdgeSamples(compute)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(1)
+    mapper.GetExpertOptions().CoverageMarchOn()
+    mapper.GetExpertOptions().SetFootprintRays(footprint)
+    mapper.GetExpertOptions().SetEdgeSamples(count)
+    mapper.GetExpertOptions().SetComputeEdgeSamples(compute)
     if threads:
         mapper.SetNumberOfThreads(threads)
     window.Render()
@@ -84,9 +84,9 @@ def test_keep_edge_means(keep: bool) -> None:
 
     window, mapper, scene = wavelet_scene(SIZE, opacity=0.6, seed=3, denoise=True)
     scene[3].GetActiveCamera().Zoom(0.6)
-    mapper.SetMaximumAccumulatedFrames(1)
-    assert not mapper.GetKeepEdgeMeans()
-    mapper.SetKeepEdgeMeans(keep)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(1)
+    assert not mapper.GetExpertOptions().GetKeepEdgeMeans()
+    mapper.GetExpertOptions().SetKeepEdgeMeans(keep)
     window.Render()
     denoised = grid(get_pass(mapper, "Denoised", SIZE))
 
@@ -129,7 +129,7 @@ def test_frames_are_deterministic_and_thread_independent() -> None:
 
 def test_denoised_frame_gets_them_by_default() -> None:
     """With Denoise on (ComputeEdgeSamples off) the frame loop traces them: the accumulated
-    passes are those of ComputeEdgeSamples (and ComputeFootprint, which it traces too) without
+    passes are those of ComputeEdgeSamples (and FootprintRays, which it traces too) without
     denoising."""
     denoised, mapper = render(4, compute=False, denoise=True)
     assert mapper.GetLastEdgeFraction() > 0.02
@@ -146,9 +146,9 @@ def test_a_camera_move_drops_the_edges_history() -> None:
     def moved(count: int) -> dict:
         window, mapper, keep = wavelet_scene(SIZE, opacity=0.6, seed=3)
         keep[3].GetActiveCamera().Zoom(0.6)
-        mapper.ComputeCoverageOn()
-        mapper.SetEdgeSamples(count)
-        mapper.ComputeEdgeSamplesOn()
+        mapper.GetExpertOptions().CoverageMarchOn()
+        mapper.GetExpertOptions().SetEdgeSamples(count)
+        mapper.GetExpertOptions().ComputeEdgeSamplesOn()
         for _ in range(3):
             window.Render()
         keep[3].GetActiveCamera().Azimuth(1.0)
@@ -192,12 +192,13 @@ def test_the_mean_is_unbiased(count: int) -> None:
 def test_edge_samples_in_the_settings() -> None:
     """Documented properties with their defaults and range, printed by PrintSelf."""
     mapper = ptv.vtkPathTracedVolumeMapper()
-    assert mapper.GetEdgeSamples() == 3 and not mapper.GetComputeEdgeSamples()
+    options = mapper.GetExpertOptions()
+    assert options.GetEdgeSamples() == 3 and not options.GetComputeEdgeSamples()
     assert mapper.GetLastEdgeFraction() == 0.0
-    mapper.SetEdgeSamples(0)
-    assert mapper.GetEdgeSamples() == 1
-    mapper.SetEdgeSamples(1000)
-    assert mapper.GetEdgeSamples() == 64
-    mapper.ComputeEdgeSamplesOn()
+    mapper.GetExpertOptions().SetEdgeSamples(0)
+    assert mapper.GetExpertOptions().GetEdgeSamples() == 1
+    mapper.GetExpertOptions().SetEdgeSamples(1000)
+    assert mapper.GetExpertOptions().GetEdgeSamples() == 64
+    mapper.GetExpertOptions().ComputeEdgeSamplesOn()
     text = str(mapper)
     assert "EdgeSamples: 64" in text and "ComputeEdgeSamples: 1" in text

@@ -83,7 +83,7 @@ def render_passes(denoise: bool) -> vtkImageData:
     mapper.ConvergeStillRendersOff()  # frame by frame
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetDenoise(denoise)
-    mapper.SetDenoiserUseNetwork(False)
+    mapper.GetExpertOptions().SetDenoiserUseNetwork(False)
     errors = Errors(mapper)
     volume = vtkVolume()
     volume.SetMapper(mapper)

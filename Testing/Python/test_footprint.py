@@ -1,4 +1,4 @@
-"""The Footprint pass (vtkPathTracedVolumeMapper ComputeFootprint, ptvIntegrator.h step 4d) and
+"""The Footprint pass (vtkPTVExpertOptions FootprintRays, ptvIntegrator.h step 4d) and
 the denoiser's use of it: pixels whose four corners it marks empty come out black.
 
 The closed-form check of the kernel (a straight edge) is the C++ TestPTVKernelFootprint; here
@@ -32,8 +32,8 @@ def render(compute: bool, denoise: bool = False, frames: int = 1, zoom: float = 
     """The wavelet zoomed out (``zoom`` < 1: empty space around the box) after ``frames``."""
     window, mapper, keep = wavelet_scene(SIZE, opacity=0.3, seed=3, denoise=denoise)
     keep[3].GetActiveCamera().Zoom(zoom)
-    mapper.SetComputeFootprint(compute)
-    mapper.SetMaximumAccumulatedFrames(frames)
+    mapper.GetExpertOptions().SetFootprintRays(compute)
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(frames)
     for _ in range(frames):
         window.Render()
     names = TRACED + ["Footprint"] + (["Denoised", "DenoisedAlpha"] if denoise else [])
@@ -65,7 +65,7 @@ def test_footprint_pass_and_other_passes_unchanged() -> None:
 
 
 def test_denoised_image_is_black_where_the_footprint_is_empty() -> None:
-    """With Denoise the frame loop traces the pass by itself (ComputeFootprint off), and the
+    """With Denoise the frame loop traces the pass by itself (FootprintRays off), and the
     denoised colour and opacity are 0 exactly on the pixels the corner rule marks empty; a
     pixel that is not marked keeps what the denoiser made of it (the same as with a Footprint
     image of ones, through vtkPTVDenoiser on the mapper's own passes)."""
@@ -102,15 +102,15 @@ def test_denoised_image_is_black_where_the_footprint_is_empty() -> None:
 
 def test_denoiser_footprint_off() -> None:
     """DenoiserFootprint off: with Denoise the pass is not traced (all 1) and no pixel is
-    cleared; ComputeFootprint on still traces it, and the denoiser leaves it unused."""
+    cleared; FootprintRays on still traces it, and the denoiser leaves it unused."""
     marked, _ = render(False, denoise=True)
 
     def off(compute: bool) -> dict:
         window, mapper, keep = wavelet_scene(SIZE, opacity=0.3, seed=3, denoise=True)
         keep[3].GetActiveCamera().Zoom(0.6)
-        mapper.SetMaximumAccumulatedFrames(1)
-        mapper.DenoiserFootprintOff()
-        mapper.SetComputeFootprint(compute)
+        mapper.GetExpertOptions().SetMaximumAccumulatedFrames(1)
+        mapper.GetExpertOptions().DenoiserFootprintOff()
+        mapper.GetExpertOptions().SetFootprintRays(compute)
         window.Render()
         return {name: get_pass(mapper, name, SIZE) for name in ("Footprint", "Denoised")}
 
@@ -129,9 +129,10 @@ def test_denoiser_footprint_off() -> None:
 def test_footprint_in_the_settings() -> None:
     """Documented properties with their defaults, printed by PrintSelf."""
     mapper = ptv.vtkPathTracedVolumeMapper()
-    assert not mapper.GetComputeFootprint() and mapper.GetDenoiserFootprint()
-    mapper.ComputeFootprintOn()
-    mapper.DenoiserFootprintOff()
-    assert mapper.GetComputeFootprint() and not mapper.GetDenoiserFootprint()
+    options = mapper.GetExpertOptions()
+    assert not options.GetFootprintRays() and options.GetDenoiserFootprint()
+    mapper.GetExpertOptions().FootprintRaysOn()
+    mapper.GetExpertOptions().DenoiserFootprintOff()
+    assert options.GetFootprintRays() and not options.GetDenoiserFootprint()
     text = str(mapper)
-    assert "ComputeFootprint: 1" in text and "DenoiserFootprint: 0" in text
+    assert "FootprintRays: 1" in text and "DenoiserFootprint: 0" in text

@@ -66,7 +66,7 @@ def vtk_denoise(mapper, history: np.ndarray) -> np.ndarray:
 def test_mapper_denoises_with_its_history_length(history_model) -> None:
     window, mapper, keep = wavelet_scene((W, H), denoise=True)
     mapper.SetDenoiserModelFile(str(history_model))
-    mapper.SetMaximumHistory(2)
+    mapper.GetExpertOptions().SetMaximumHistory(2)
     assert mapper.GetTemporalReprojection()
     window.Render()
     camera = keep[3].GetActiveCamera()

@@ -27,6 +27,8 @@ from ptv_wavelet_scene import read_window, wavelet_scene
     ("DenoiserNumberOfLevels", 7, 3), ("NumberOfThreads", -1, 0), ("Backend", 9, 2)])
 def test_clamped_values_are_reported_once(setter: str, value, expected) -> None:
     mapper = vtkPathTracedVolumeMapper()
+    if not hasattr(mapper, f"Set{setter}"):  # an expert option (vtkPTVExpertOptions)
+        mapper = mapper.GetExpertOptions()
     messages = observe(mapper)
     getattr(mapper, f"Set{setter}")(value)
     assert getattr(mapper, f"Get{setter}")() == expected
@@ -47,7 +49,8 @@ def test_nan_keeps_the_current_value() -> None:
 
 def test_unknown_display_pass_is_reported_once_and_shows_the_default() -> None:
     window, mapper, keep = wavelet_scene((48, 48), denoise=True)
-    mapper.SetMaximumAccumulatedFrames(4)  # later renders trace nothing: the same passes
+    # later renders trace nothing: the same passes
+    mapper.GetExpertOptions().SetMaximumAccumulatedFrames(4)
     messages = observe(mapper)
     shown = {}
     for name in ("", "Radiance", "NoSuchPass"):

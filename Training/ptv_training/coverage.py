@@ -3,7 +3,7 @@ GuideNet's ``coverage`` channel.
 
 At one sample a camera ray has an event with the probability of its opacity c and stores Alpha
 1, else 0, so the 1-spp Alpha of a fog and of a solid are both 0 or 1. The mapper's Coverage
-pass (``ComputeCoverage``) is c itself: the camera ray marched on past its event (the top-level
+pass (``CoverageMarch``) is c itself: the camera ray marched on past its event (the top-level
 README, "The Coverage pass"), a noise-free measure of how translucent the ray's material is --
 below 1 in a fog or a thin translucent tube, 1 on an opaque surface. GuideNet reads it as the
 ``coverage`` channel (``features.py``); ``generate.py``, ``heldout.py`` and ``compare.py`` store
@@ -16,7 +16,7 @@ accumulations must come out bit-identical (else the file is left alone and repor
 again with its own command), and the Coverage channels are added (``coverage.A``,
 ``spp<k>.coverage.A``; atomic write, new digest). Likewise the 1-frame passes of
 ``compare.py``'s Table-1 views (``--paper-cache``, ``.npz``). Files that have it are skipped.
-With ``--pass Footprint`` the same for the Footprint pass (``ComputeFootprint``: 0 where the
+With ``--pass Footprint`` the same for the Footprint pass (``FootprintRays``: 0 where the
 denoiser keeps a pixel black), which only the evaluation views (``heldout.py``, ``compare.py``)
 carry.
 

@@ -17,7 +17,7 @@ Passes (``passes[name]`` is ``(H, W, C)`` or ``(H, W)`` for one component, row `
     ScatterDepth     1  like Depth, for the scattering event
     ScatterPosition  3  like Position, for the scattering event
     ScatterNormal    3  like Normal, for the scattering event
-    Coverage         1  the camera ray's opacity in [0, 1] (ComputeCoverage; else Alpha)
+    Coverage         1  the camera ray's opacity in [0, 1] (CoverageMarch; else Alpha)
     DepthSpread      1  study pass, not traced by the mapper (``data.with_edge_samples``): on
                         an edge pixel |dA - dB|, the world distance between the first-event
                         depths of its frame sample and of its edge samples' mean where both hit;
@@ -38,7 +38,7 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
     scatter_depth       as depth, from ScatterDepth (hits are scattering events)
     scatter_position.*  as position.*, from ScatterPosition with the ScatterDepth hit mask
     coverage            clip(Coverage, 0, 1): the camera ray's opacity, its expected Alpha
-                        without the event's coin flip (the mapper's ComputeCoverage): below 1
+                        without the event's coin flip (the expert option CoverageMarch): below 1
                         in a fog or a thin translucent layer, 1 on an opaque surface
     depth_spread        clip(DepthSpread / (dmax - dmin), 0, 1) with the depth channel's range
                         over hits (0 for a zero range): how noisy the pixel's depth is. A study

@@ -111,9 +111,9 @@ def trace_frame(scene: Any, meta: Dict[str, Any], seed: int, frames: int, edge_s
     ``expected_coverage`` the mapper's ExpectedCoverage."""
     edges = edge_samples > 1
     mapper = scene.set_view(meta, seed=seed, max_frames=frames, footprint=edges)
-    mapper.SetEdgeSamples(edge_samples)
-    mapper.SetComputeEdgeSamples(edges)
-    mapper.SetExpectedCoverage(expected_coverage)
+    mapper.GetExpertOptions().SetEdgeSamples(edge_samples)
+    mapper.GetExpertOptions().SetComputeEdgeSamples(edges)
+    mapper.GetExpertOptions().SetExpectedCoverage(expected_coverage)
     if scene.render(frames) != frames:
         raise RuntimeError(f"{meta['dataset']}: {frames} frames did not accumulate")
     return mapper
@@ -249,7 +249,7 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     args = p.parse_args(argv)
     if args.edge_samples <= 0:
         from pathtracedvolume import vtkPathTracedVolumeMapper
-        args.edge_samples = int(vtkPathTracedVolumeMapper().GetEdgeSamples())
+        args.edge_samples = int(vtkPathTracedVolumeMapper().GetExpertOptions().GetEdgeSamples())
     for model in args.model:
         if not model.is_file():
             p.error(f"--model: {model} does not exist")

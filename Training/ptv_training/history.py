@@ -56,7 +56,7 @@ def render_history(scene: Scene, view: Mapping[str, Any], path: Sequence[Mapping
 
     mapper = scene.set_view(view, seed=seed, denoise=False, max_frames=1024)
     mapper.SetTemporalReprojection(True)
-    mapper.SetMaximumHistory(int(max_history))
+    mapper.GetExpertOptions().SetMaximumHistory(int(max_history))
     for p in path:
         place_camera(scene.renderer, p["azimuth"], p["elevation"],
                      view.get("distance_factor", 1.0))

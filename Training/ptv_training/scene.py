@@ -123,9 +123,9 @@ class Scene:
     def set_view(self, view: Mapping[str, Any], seed: int = 0, denoise: bool = False,
                  max_frames: int = 1024, coverage: bool = True, footprint: bool = False) -> Any:
         """Build mapper/volume/renderer/camera/light for ``view``; returns the mapper. With
-        ``coverage`` the mapper traces the Coverage pass (ComputeCoverage; a reference's
+        ``coverage`` the mapper traces the Coverage pass (CoverageMarch; a reference's
         radiance does not need it, and it changes no other pass), with ``footprint`` the
-        Footprint pass (ComputeFootprint: evaluation views, which the denoiser reads as the
+        Footprint pass (FootprintRays: evaluation views, which the denoiser reads as the
         mapper's frame loop gives it; it changes no other pass either)."""
         from pathtracedvolume import vtkPathTracedVolumeMapper
         from pathtracedvolume.presets import find_preset
@@ -149,10 +149,10 @@ class Scene:
         mapper.ConvergeStillRendersOff()  # the data's sample counts are set frame by frame
         mapper.SetInputData(self.data)
         mapper.SetSeed(int(seed))
-        mapper.SetMaximumAccumulatedFrames(int(max_frames))
+        mapper.GetExpertOptions().SetMaximumAccumulatedFrames(int(max_frames))
         mapper.SetDenoise(bool(denoise))
-        mapper.SetComputeCoverage(bool(coverage))  # GuideNet's "coverage" channel
-        mapper.SetComputeFootprint(bool(footprint))  # the denoiser's empty pixels
+        mapper.GetExpertOptions().SetCoverageMarch(bool(coverage))  # GuideNet's "coverage" channel
+        mapper.GetExpertOptions().SetFootprintRays(bool(footprint))  # the denoiser's empty pixels
         if self.threads:
             mapper.SetNumberOfThreads(int(self.threads))
         volume = vtkVolume()

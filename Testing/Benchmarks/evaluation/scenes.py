@@ -59,8 +59,8 @@ PROCEDURAL_PRESET = {
 def set_edge_samples(scene: pb.BenchScene, count: int) -> None:
     """The mapper's EdgeSamples in every frame (ComputeEdgeSamples) with ``count`` > 1, else
     none (the N-spp sweep and the references)."""
-    scene.mapper.SetEdgeSamples(max(int(count), 1))
-    scene.mapper.SetComputeEdgeSamples(count > 1)
+    scene.mapper.GetExpertOptions().SetEdgeSamples(max(int(count), 1))
+    scene.mapper.GetExpertOptions().SetComputeEdgeSamples(count > 1)
 
 
 class Scenes:
@@ -220,7 +220,7 @@ def edge_samples(args: argparse.Namespace) -> int:
     if getattr(args, "edge_samples", None):
         return int(args.edge_samples)
     from pathtracedvolume import vtkPathTracedVolumeMapper
-    return int(vtkPathTracedVolumeMapper().GetEdgeSamples())
+    return int(vtkPathTracedVolumeMapper().GetExpertOptions().GetEdgeSamples())
 
 
 def tracer_fingerprint(scenes: Scenes) -> str:

@@ -125,8 +125,8 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
 
     def trace(ours_frame: bool, edges: bool = True, into: Optional[List[float]] = None
               ) -> None:
-        scene.mapper.SetComputeCoverage(ours_frame and reads)
-        scene.mapper.SetComputeFootprint(ours_frame)
+        scene.mapper.GetExpertOptions().SetCoverageMarch(ours_frame and reads)
+        scene.mapper.GetExpertOptions().SetFootprintRays(ours_frame)
         set_edge_samples(scene, bench.scenes.edge_samples if edges else 1)
         (traced[ours_frame] if into is None else into).append(scene.render(next(seeds), 1)[0])
 
@@ -155,8 +155,8 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     per_round = {c: sum(1 for m in denoisers if (m in ours) == c) for c in traced}
     edged, marched = (statistics.median(traced[c][per_round[c]:])  # without the warm-up round's
                       if per_round[c] else float("nan") for c in (False, True))
-    scene.mapper.SetComputeCoverage(True)  # as the scene was
-    scene.mapper.SetComputeFootprint(True)
+    scene.mapper.GetExpertOptions().SetCoverageMarch(True)  # as the scene was
+    scene.mapper.GetExpertOptions().SetFootprintRays(True)
     set_edge_samples(scene, 1)
     return statistics.median(plain[1:]), marched, edged, den
 
