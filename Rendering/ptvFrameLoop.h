@@ -13,11 +13,14 @@
  *     restarts it); ptvReprojection -- when only the view moved, the mean of the previous view
  *     is carried into the new one first (per-pixel history, capped at MaximumHistory);
  *  4. ptvDenoiser -- with Denoise on, the accumulated passes are denoised;
- *     ptvConvergence -- the denoised image fades into the raw mean as the samples make it
+ *     ptvConvergence -- the denoised image is mixed with the raw mean as the samples make it
  *     unnecessary, and the error of what is shown is estimated (a still render repeats 2.-4.
  *     until that estimate reaches the requested quality);
  *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
  *  6. ptvDisplay -- which is drawn into the render window.
+ * FrameLoop's own code follows the stages: ptvFrameLoop.cxx (Render: the order above),
+ * ptvFrameLoopTrace.cxx (2.-3.), ptvFrameLoopDenoise.cxx (4.), ptvFrameLoopStill.cxx (the still
+ * render's repetition).
  * The mapper (vtkPathTracedVolumeMapper) only turns its properties into a FrameRequest and the
  * loop's messages into vtkErrorMacro / vtkWarningMacro. With several processes (MPI ranks:
  * FrameRequest::Controller), each traces its own samples of every frame and 3. starts on
@@ -80,10 +83,10 @@ struct FrameRequest
   /// accumulated, or StillTimeBudget seconds (> 0) have passed (said once per budget).
   /// Otherwise one frame per render.
   bool Still = false;
+  bool ConvergeStillRenders = true; ///< the mapper's default (Still is its per-render answer)
   double StillQuality = 40.0;
   int MaximumStillFrames = 256;
   double StillTimeBudget = 30.0;
-  bool ConvergeStillRenders = true; ///< the mapper's default (Still is its per-render answer)
   std::function<void(double)> Progress; ///< fraction done of a still render (may be empty)
   /// Asked between a still render's frames: true stops it (the render window's abort check).
   std::function<bool()> Abort;
