@@ -452,7 +452,7 @@ void Denoiser::DenoiseOpacity(const DenoiserSettings& settings, const float* alp
   }
   // The finest level alone: an opacity's edges are the grid's finest features, and on the 256^2
   // Table-1 views all levels drew the window within 0.1 dB of it for twice the time
-  // (Testing/Benchmarks/shown_alpha.py, 2026-12-03).
+  // (research/benchmarks/shown_alpha.py, 2026-12-03).
   const int threads = settings.Threads;
   const std::size_t levels = static_cast<std::size_t>(this->Levels);
   this->Replicated.resize(3 * n);

@@ -1,7 +1,6 @@
 """Testing/Benchmarks/ptvbench.py's timing helpers, which every speed figure goes through:
 interleaved rounds, the paired ratio (median of per-round ratios) and the hypervisor steal read
-from /proc/stat; and the numpy rebuild of GuideNet's half-resolution stage in
-guide_upsampling.py. Plain Python (no VTK, no display)."""
+from /proc/stat. Plain Python (no VTK, no display)."""
 from __future__ import annotations
 
 import sys
@@ -9,7 +8,6 @@ import time
 from pathlib import Path
 from typing import List, Optional, Tuple
 
-import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -55,24 +53,3 @@ def test_cpu_steal_is_the_share_of_stolen_ticks(monkeypatch: pytest.MonkeyPatch)
     with pb.CpuSteal() as steal:
         pass
     assert steal.fraction is None
-
-
-def test_guide_upsampling_study_matches_guidenet_pooling_and_upsampling() -> None:
-    # guide_upsampling.py rebuilds GuideNet's half-resolution stage in numpy: its block mean
-    # must be F.avg_pool2d of the edge-replicated image and its bilinear upsampling
-    # F.interpolate(align_corners=False) cropped, else its "bilinear" row would not be the
-    # C++ denoiser's (guidenet.py's forward). Odd sizes exercise the replicated edge.
-    import torch
-    import torch.nn.functional as F
-    import guide_upsampling as gu
-    rng = np.random.default_rng(3)
-    x = rng.random((3, 7, 9)).astype(np.float32)
-    t = torch.from_numpy(x)[None]
-    pooled = F.avg_pool2d(F.pad(t, (0, 1, 0, 1), mode="replicate"), 2)[0].numpy()
-    np.testing.assert_allclose(gu.block_mean(x, 2), pooled, rtol=1e-6, atol=1e-7)
-    up = F.interpolate(torch.from_numpy(pooled)[None], scale_factor=2, mode="bilinear",
-                       align_corners=False)[0, :, :7, :9].numpy()
-    np.testing.assert_allclose(gu.upsample(pooled, 7, 9, 2), up, rtol=1e-5, atol=1e-6)
-    # Joint-bilateral weights equal everywhere (a constant feature) give the bilinear result.
-    flat = np.ones((1, 7, 9))
-    np.testing.assert_allclose(gu.upsample(pooled, 7, 9, 2, flat, 0.3), up, rtol=1e-5, atol=1e-6)

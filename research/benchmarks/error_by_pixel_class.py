@@ -13,7 +13,7 @@ whether the frame's own (first) sample met the volume (Alpha). Per class: its sh
 pixels and of the squared error, and its mean tone-mapped colour against the reference's.
 Quality only (``edge_samples.py`` has the cost).
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/error_by_pixel_class.py
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/error_by_pixel_class.py
 """
 from __future__ import annotations
 
@@ -83,8 +83,8 @@ def main() -> int:
             for count in a.counts:
                 mapper = scene.set_view(view, seed=compare.PAPER_SEEDS[0], max_frames=1,
                                         footprint=True)
-                mapper.SetEdgeSamples(count)
-                mapper.SetComputeEdgeSamples(count > 1)
+                mapper.GetExpertOptions().SetEdgeSamples(count)
+                mapper.GetExpertOptions().SetComputeEdgeSamples(count > 1)
                 scene.render(1)
                 passes = {n: scene.get_pass(n) for n in names}
                 out = cpp_denoise(a.model, passes, sorted(passes), threads=2)["output"]

@@ -8,7 +8,7 @@ denoised/reference luminance ratio at the pinholes and elsewhere, the share of c
 below 0.8 of the reference, and the PSNR. A denoiser that lets pinholes through shows a ratio
 at the pinholes well below the one elsewhere.
 
-    PYTHONPATH=build/python .venv/bin/python Testing/Benchmarks/pinholes.py \\
+    PYTHONPATH=build/python .venv/bin/python research/benchmarks/pinholes.py \\
         Data/Models/guidenet.onnx "older model=old.onnx" --markdown out.md
 
 A model is ``PATH`` or ``LABEL=PATH``; ``--markdown`` also writes the figures as a table.

@@ -12,7 +12,7 @@ without the Footprint image, and OIDN RT fast on the same passes; PSNR after the
 share of pixels it clears, of which how many the reference leaves empty (below 0.02 after the
 tone map). Quality only: the pass's trace cost is ``coverage_cost.py --pass Footprint``.
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/footprint_quality.py
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/footprint_quality.py
 """
 from __future__ import annotations
 

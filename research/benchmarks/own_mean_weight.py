@@ -12,7 +12,7 @@ and reports the PSNR after the tone map (``docs/measuring.md``); it also checks 
 shipped step (vtkPTVDenoiser with the pass) equals the numpy one for n = 4. Run it on an idle
 machine.
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/own_mean_weight.py
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/own_mean_weight.py
 """
 from __future__ import annotations
 

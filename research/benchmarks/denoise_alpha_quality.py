@@ -8,7 +8,7 @@ compares the three on the Table-1 views of ``Training/ptv_training/compare.py`` 
 into ``--cache``): PSNR / SSIM after the tone map of ``docs/measuring.md``, the premultiplied
 colour against the premultiplied reference (the evaluation report's measure). Quality only.
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/denoise_alpha_quality.py --size 256
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/denoise_alpha_quality.py --size 256
 """
 from __future__ import annotations
 

@@ -1,18 +1,18 @@
 #!/usr/bin/env python3
-"""Benchmark: what the Coverage or Footprint pass costs the trace (ComputeCoverage, ComputeFootprint).
+"""Benchmark: what the Coverage or Footprint pass costs the trace (CoverageMarch, FootprintRays).
 
-With ComputeCoverage (on by itself when the denoiser's model reads the "coverage" channel, as the
+With CoverageMarch (on by itself when the denoiser's model reads the "coverage" channel, as the
 shipped one does) every camera ray's march is carried on past its event until its transmittance
 is below 0.01, for the ray's opacity (``Rendering/Kernels/ptvIntegrator.h``, step 4c). On an
 opaque surface that is a few samples; in a fog the rest of the ray.
 
 For every dataset and view (the report's Table-1 views), with its paper preset and with that
 preset's opacity scaled by ``--translucent`` (a fog-like transfer function), the median trace
-time of a fresh 1-spp frame with ComputeCoverage off and on, in ``--rounds`` interleaved rounds,
+time of a fresh 1-spp frame with CoverageMarch off and on, in ``--rounds`` interleaved rounds,
 and their ratio (the median of the per-round ratios). It also checks that every other pass is
 bit-identical with the pass on. Run it on an idle machine.
 
-With ``--pass Footprint`` the same for ComputeFootprint (on by itself whenever the frame is
+With ``--pass Footprint`` the same for FootprintRays (on by itself whenever the frame is
 denoised): camera rays that meet no opacity are followed by four fixed rays through their pixel
 (step 4d), so its cost grows with the share of pixels whose ray misses.
 """
@@ -51,8 +51,9 @@ def parse_args() -> argparse.Namespace:
 
 
 def switch(scene: pb.BenchScene, name: str, on: bool) -> None:
-    """ComputeCoverage or ComputeFootprint of the scene's mapper."""
-    getattr(scene.mapper, f"SetCompute{name}")(on)
+    """CoverageMarch or FootprintRays of the scene's mapper (its expert options)."""
+    option = {"Coverage": "CoverageMarch", "Footprint": "FootprintRays"}[name]
+    getattr(scene.mapper.GetExpertOptions(), f"Set{option}")(on)
 
 
 def trace_ms(scene: pb.BenchScene, name: str, on: bool, seed: int) -> float:
@@ -64,7 +65,8 @@ def trace_ms(scene: pb.BenchScene, name: str, on: bool, seed: int) -> float:
 
 def measure(scene: pb.BenchScene, name: str, rounds: int) -> Dict[str, float]:
     if name == "Coverage":
-        scene.mapper.ComputeFootprintOff()  # the march alone; the Footprint pass as in a frame
+        # the march alone; the Footprint pass as in a frame
+        scene.mapper.GetExpertOptions().FootprintRaysOff()
     off: List[float] = []
     on: List[float] = []
     for r in range(rounds):

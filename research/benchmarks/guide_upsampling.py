@@ -10,7 +10,7 @@ pixel's 1-spp hit mask (and depth feature) and f(q) its 2x2 block's mean -- and 
 ``vtkPTVDenoiser`` as ``Guides`` / ``BlendWeights``. (a) must reproduce the denoiser's own output.
 Quality only, no timing. Results: Training/README.md ("The dark pinholes").
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/guide_upsampling.py
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/guide_upsampling.py
 """
 from __future__ import annotations
 

@@ -132,7 +132,7 @@ def main() -> int:
         write_text(args.json, json.dumps(rows, indent=2))
     if args.markdown:
         command = ("PYTHONPATH=build/python xvfb-run -a -s \"-screen 0 1024x768x24 -noreset\" "
-                   ".venv/bin/python Testing/Benchmarks/mpi_edge_samples.py --json ... "
+                   ".venv/bin/python research/benchmarks/mpi_edge_samples.py --json ... "
                    "--markdown ...")
         write_text(args.markdown, "# Edge samples on a split volume\n\nCommand (idle machine): `"
                    + command + "`\n\n" + "\n".join(lines) + "\n")

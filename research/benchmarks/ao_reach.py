@@ -49,7 +49,7 @@ def parse_args() -> argparse.Namespace:
 
 
 def accumulate(scene: pb.BenchScene, reach: float, seed: int, frames: int) -> np.ndarray:
-    scene.mapper.SetAmbientOcclusionReach(reach)
+    scene.mapper.GetExpertOptions().SetAmbientOcclusionReach(reach)
     scene.render(seed=seed, frames=frames)
     return scene.grab("Radiance")
 

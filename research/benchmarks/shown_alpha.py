@@ -24,7 +24,7 @@ holds it):
 * ``alpha 0``: the share of the covered pixels (reference above 0.02 after the tone map) whose
   frame had no event (Alpha 0).
 
-    PYTHONPATH=build/python xvfb-run -a .venv/bin/python Testing/Benchmarks/shown_alpha.py \
+    PYTHONPATH=build/python xvfb-run -a .venv/bin/python research/benchmarks/shown_alpha.py \
         --size 256 [--background 0.32 0.34 0.43]
 """
 from __future__ import annotations
