@@ -28,7 +28,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--dataset", choices=DATASETS, default="head",
                         help="dataset from the data cache (default: head)")
     parser.add_argument("--preset", default=None,
-                        help="preset name (default: '<Dataset> Two-Band (paper)')")
+                        help="preset name (default: '<Dataset> Smooth'; the paper's: "
+                        "'<Dataset> Two-Band (paper)')")
     parser.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"),
                         help="image size in pixels (default: 512 512)")
     parser.add_argument("--background", type=float, nargs=3, default=BACKGROUND,
@@ -57,7 +58,8 @@ def render(args: argparse.Namespace) -> float:
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
     # pathtracedvolume.scene: the dataset, its preset, and the camera looking at the face.
-    scene = Scene.of_dataset(args.dataset, tuple(args.size), preset=args.preset,
+    preset = args.preset or f"{args.dataset.capitalize()} Smooth"
+    scene = Scene.of_dataset(args.dataset, tuple(args.size), preset=preset,
                              azimuth=args.azimuth, elevation=args.elevation,
                              mapper=args.mapper, denoise=not args.no_denoise,
                              background=args.background)

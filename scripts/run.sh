@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# README command 1: set everything up and render the bundled default (head CT, paper preset)
+# README command 1: set everything up and render the bundled default (head CT, its "Head Smooth" preset)
 # to out/head.png. Extra arguments go to scripts/render.py (see --help there).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
