@@ -154,7 +154,7 @@ def render_frames(view, display, name: str, remote: bool) -> np.ndarray:
     print("%s gathered from the render server: Found=%r AccumulatedFrames=%d "
           "MaximumAccumulatedFrames=%d NeedsRefinement=%r ActiveBackend=%r DenoiserStatus=%r "
           "LastTraceTime=%.1f ms" % (name, gathered.GetFound(), gathered.GetAccumulatedFrames(),
-                                      gathered.GetExpertOptions().GetMaximumAccumulatedFrames(),
+                                      gathered.GetMaximumAccumulatedFrames(),
                                       gathered.GetNeedsRefinement(), gathered.GetActiveBackend(),
                                       gathered.GetDenoiserStatus(), gathered.GetLastTraceTime()))
     check(gathered.GetFound(), "%s: the gathered information found the representation" % name)
