@@ -2,7 +2,7 @@
 pixels whose 3x3 neighbourhood (clamped at the image's border) holds a camera ray of opacity
 (the Coverage pass) of at least ``HIGH`` and one below ``LOW``. Plain NumPy, so that pvpython,
 the tests, the benchmarks and the training data use one definition (the C++ one is
-Rendering/ptvEdgeSamples.h's FindEdgePixels).
+Rendering/Trace/ptvEdgeSamples.h's FindEdgePixels).
 """
 from __future__ import annotations
 

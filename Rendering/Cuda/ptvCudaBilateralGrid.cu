@@ -1,6 +1,6 @@
 // The CUDA driver behind ptvCudaBilateralGrid.h: the CPU driver's three phases
 // (ptvBilateralGridCpu.cxx) as kernels over the same functions of Kernels/ptvBilateralGrid.h.
-#include "../ptvCudaBilateralGrid.h"
+#include "ptvCudaBilateralGrid.h"
 #include "ptvCudaBuffer.h"
 
 #include <cuda_runtime.h>

@@ -1,6 +1,6 @@
 // CUDA runtime query behind ptvCudaDevice.h. With no GPU or driver the runtime returns an error
 // code (35: insufficient driver, 100: no device) that we report instead of failing.
-#include "../ptvCudaDevice.h"
+#include "ptvCudaDevice.h"
 
 #include <cuda_runtime.h>
 

@@ -2,8 +2,8 @@
 // kernel body the CPU driver runs (Kernels/ptvIntegrator.h), storing straight into device copies
 // of the traced passes (StoreSample: PassBuffers' layout), each copied back into the frame's
 // pass buffer with one cudaMemcpy (no per-pixel work on the host).
-#include "../ptvCudaTracer.h"
-#include "../ptvPassBuffers.h"
+#include "ptvCudaTracer.h"
+#include "ptvPassBuffers.h"
 #include "ptvCudaBuffer.h"
 
 #include <cuda_runtime.h>

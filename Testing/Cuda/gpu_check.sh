@@ -35,10 +35,14 @@ fi
 echo "== nvcc build ($root)"
 bin=$(mktemp -d)/ptvCudaCheck
 arch=${PTV_CUDA_ARCH:-sm_90}
-nvcc -std=c++17 -O3 -arch="$arch" -Xptxas -v -Werror all-warnings -I"$root/Rendering" \
+includes=(-I"$root/Rendering")
+for stage in Frame Trace Accumulate Denoise Display Parallel Support; do
+  includes+=(-I"$root/Rendering/$stage")
+done
+nvcc -std=c++17 -O3 -arch="$arch" -Xptxas -v -Werror all-warnings "${includes[@]}" \
   "$root"/Rendering/Cuda/ptvCudaDevice.cu "$root"/Rendering/Cuda/ptvCudaTracer.cu \
   "$root"/Rendering/Cuda/ptvCudaBilateralGrid.cu "$root"/Testing/Cuda/ptvCudaCheck.cxx \
-  "$root"/Testing/Cuda/ptvCudaCapture.cxx "$root"/Rendering/ptvPassBuffers.cxx \
+  "$root"/Testing/Cuda/ptvCudaCapture.cxx "$root"/Rendering/Accumulate/ptvPassBuffers.cxx \
   -o "$bin" > "$out/nvcc.log" 2>&1 || { cat "$out/nvcc.log"; exit 1; }
 grep -E "Compiling entry|registers|stack frame" "$out/nvcc.log" | sed 's/ptxas info *: //' \
   | grep -v "^ *$" | head -40

@@ -1,4 +1,4 @@
-// Edge samples of a volume split into pieces (Rendering/ptvEdgeSamples.h, TraceEdgeSampleList and
+// Edge samples of a volume split into pieces (Rendering/Trace/ptvEdgeSamples.h, TraceEdgeSampleList and
 // MergeEdgeSamples; the frame loop's distributed path).
 //
 // Scene: a 64 x 2 x 4 grid seen along +z by an orthographic camera (ptvTestKernelCamera.h); the

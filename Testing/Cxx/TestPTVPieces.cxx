@@ -1,4 +1,4 @@
-// The pieces of a distributed volume put back together (Rendering/ptvPieces.h):
+// The pieces of a distributed volume put back together (Rendering/Parallel/ptvPieces.h):
 //
 // 1. ViewOrder on ParaView-like block decompositions: 2 and 4 pieces (a 2 x 2 grid of boxes that
 //    share faces) seen from eyes on every side and along parallel directions; the front piece is

@@ -27,7 +27,7 @@ FRAMES = 8
 
 
 def test_converged_pass_is_the_trained_blend() -> None:
-    weights = cb.read_header(ROOT / "Rendering" / "ptvConvergenceBlend.h")
+    weights = cb.read_header(ROOT / "Rendering" / "Accumulate" / "ptvConvergenceBlend.h")
     scene = Scene.of_dataset("head", (SIZE, SIZE), denoise=True)
     place_camera(scene.renderer, azimuth=30.0, elevation=10.0)
     mapper = scene.mapper

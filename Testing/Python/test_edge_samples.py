@@ -1,4 +1,4 @@
-"""EdgeSamples (vtkPathTracedVolumeMapper, Rendering/ptvEdgeSamples.h): after a frame is traced,
+"""EdgeSamples (vtkPathTracedVolumeMapper, Rendering/Trace/ptvEdgeSamples.h): after a frame is traced,
 the pixels whose 3x3 neighbourhood holds a camera ray of opacity >= 0.5 and one below 0.05 get
 EdgeSamples - 1 more samples per frame sample from a stream of their own, when the frame is
 denoised or with ComputeEdgeSamples."""

@@ -24,7 +24,7 @@ Commands (rendering needs ``PYTHONPATH=build/python`` and a display, e.g. ``xvfb
         --tf presets --views 6 --frames 512 --reference-spp 2048
     # 2. train (preset views weighted 3x) and write the C++ weights
     .venv/bin/python Training/ptv_training/converge_blend.py train --data .cache/blend \\
-        --header Rendering/ptvConvergenceBlend.h
+        --header Rendering/Accumulate/ptvConvergenceBlend.h
 """
 from __future__ import annotations
 

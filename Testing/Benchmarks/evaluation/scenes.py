@@ -209,10 +209,11 @@ class Cache:
 # What decides a traced image: the kernels and the frame's inputs, tracing and accumulation. A
 # tiny render alone can miss a change (the step-corrected opacity tables left a 24x20 image
 # bit-identical while 256² images moved by 1e-5).
-TRACER_SOURCES = ("Rendering/Kernels/*.h", "Rendering/ptvFrameInputs.*", "Rendering/ptvFrameLoop.*",
-                  "Rendering/ptvSceneToKernel.*", "Rendering/ptvCpuTracer.*",
-                  "Rendering/ptvTracerRunner.*", "Rendering/ptvPassBuffers.*",
-                  "Rendering/ptvReprojection.*", "Rendering/ptvEdgeSamples.*")
+TRACER_SOURCES = ("Rendering/Kernels/*.h", "Rendering/Trace/ptvFrameInputs*",
+                  "Rendering/Frame/ptvFrameLoop.*", "Rendering/Trace/ptvSceneToKernel.*",
+                  "Rendering/Trace/ptvCpuTracer.*", "Rendering/Trace/ptvTracerRunner.*",
+                  "Rendering/Accumulate/ptvPassBuffers.*", "Rendering/Accumulate/ptvReprojection*",
+                  "Rendering/Trace/ptvEdgeSamples.*")
 
 
 def edge_samples(args: argparse.Namespace) -> int:

@@ -1,5 +1,7 @@
 #include "ptvGuideNetSession.h"
 
+#include "ptvGuideNetMetadata.h"
+
 #include <onnxruntime_cxx_api.h>
 
 #include <algorithm>
@@ -13,57 +15,8 @@ namespace ptv
 {
 namespace
 {
-const char* const FormatKey = "ptv.format";
-const char* const ChannelsKey = "ptv.input_channels";
-const char* const LevelsKey = "ptv.levels";
-const char* const GuideScaleKey = "ptv.guide_scale";
-const char* const DemodulateKey = "ptv.demodulate";
-const char* const GuideStrideKey = "ptv.guide_stride";
-const char* const DefaultLevelsKey = "ptv.default_levels";
-const char* const OutputsKey = "ptv.outputs";
-constexpr int kMaxGuideStride = 16;
-const char* const FormatValue = "guidenet-v1";
-const char* const ImageFormatValue = "denoiser-v1"; // an image-to-image network (baseline)
 const char* const CpuProvider = "CPUExecutionProvider";
 const char* const CudaProvider = "CUDAExecutionProvider";
-
-std::string Trim(const std::string& s)
-{
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos)
-  {
-    return std::string();
-  }
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> Split(const std::string& s, char sep)
-{
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(s);
-  while (std::getline(in, part, sep))
-  {
-    parts.push_back(Trim(part));
-  }
-  if (!s.empty() && s.back() == sep)
-  {
-    parts.emplace_back(); // "a,b," has an empty last item
-  }
-  return parts;
-}
-
-/// Strictly parse a positive int; false on anything else.
-bool ParsePositive(const std::string& s, int& value)
-{
-  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 9)
-  {
-    return false;
-  }
-  value = std::atoi(s.c_str());
-  return value > 0;
-}
 
 std::string ShapeString(const std::vector<int64_t>& shape)
 {
@@ -73,16 +26,6 @@ std::string ShapeString(const std::vector<int64_t>& shape)
     s += (i ? ", " : "") + (shape[i] < 0 ? std::string("?") : std::to_string(shape[i]));
   }
   return s + "]";
-}
-
-std::string Join(const std::vector<std::string>& items, const char* sep)
-{
-  std::string s;
-  for (size_t i = 0; i < items.size(); ++i)
-  {
-    s += (i ? sep : "") + items[i];
-  }
-  return s;
 }
 
 /// Name and shape of one float tensor input/output; false (with a message) otherwise.
@@ -185,14 +128,8 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   }
 
   std::vector<std::string> problems;
-  std::vector<std::string> channels;
-  std::vector<std::pair<int, int>> levels;
-  double guideScale = 255.0;
-  int guideStride = 1;
-  int defaultLevels = 0; // 0: every level of the model
+  GuideNetMetadata meta;
   int outputChannels = 0;
-  bool demodulate = true;
-  bool image = false;
   std::string provider = CpuProvider;
   try
   {
@@ -253,128 +190,9 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       value = v.get();
       return true;
     };
-    std::string value;
-    if (!lookup(FormatKey, value))
-    {
-      problems.push_back(std::string("metadata ") + FormatKey + " is missing (expected \"" +
-        FormatValue + "\"; export with Training/ptv_training/export_onnx.py)");
-    }
-    else if (value == ImageFormatValue)
-    {
-      image = true;
-    }
-    else if (value != FormatValue)
-    {
-      problems.push_back(std::string("metadata ") + FormatKey + " is \"" + value +
-        "\", expected \"" + FormatValue + "\" (or \"" + ImageFormatValue + "\")");
-    }
-    bool haveChannels = false;
-    if (!lookup(ChannelsKey, value))
-    {
-      problems.push_back(std::string("metadata ") + ChannelsKey + " is missing");
-    }
-    else
-    {
-      channels = Split(value, ',');
-      haveChannels = !channels.empty() &&
-        std::find(channels.begin(), channels.end(), std::string()) == channels.end();
-      if (!haveChannels)
-      {
-        problems.push_back(std::string("metadata ") + ChannelsKey + " \"" + value +
-          "\" is not a comma-separated list of non-empty channel names");
-      }
-    }
-    bool haveLevels = false;
-    if (image)
-    {
-      // Image-to-image models output the denoised radiance: no grid levels.
-    }
-    else if (!lookup(LevelsKey, value))
-    {
-      problems.push_back(std::string("metadata ") + LevelsKey + " is missing");
-    }
-    else
-    {
-      haveLevels = true;
-      for (const auto& item : Split(value, ','))
-      {
-        const auto colon = item.find(':');
-        int ss = 0;
-        int sr = 0;
-        if (colon == std::string::npos || !ParsePositive(Trim(item.substr(0, colon)), ss) ||
-          !ParsePositive(Trim(item.substr(colon + 1)), sr))
-        {
-          haveLevels = false;
-          break;
-        }
-        levels.emplace_back(ss, sr);
-      }
-      if (!haveLevels || levels.empty())
-      {
-        haveLevels = false;
-        problems.push_back(std::string("metadata ") + LevelsKey + " \"" + value +
-          "\" is not a list like \"4:4,8:8,16:16\" (spatial step:range step per level)");
-      }
-    }
-    if (lookup(GuideScaleKey, value))
-    {
-      char* end = nullptr;
-      errno = 0;
-      guideScale = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno || !(guideScale > 0.0))
-      {
-        problems.push_back(std::string("metadata ") + GuideScaleKey + " \"" + value +
-          "\" is not a positive number");
-      }
-    }
-
-    if (lookup(GuideStrideKey, value))
-    {
-      if (!ParsePositive(Trim(value), guideStride) || guideStride > kMaxGuideStride)
-      {
-        problems.push_back(std::string("metadata ") + GuideStrideKey + " \"" + value +
-          "\" is not an integer from 1 to " + std::to_string(kMaxGuideStride));
-        guideStride = 1;
-      }
-    }
-
-    if (lookup(DefaultLevelsKey, value))
-    {
-      // Checked against the level count once "ptv.levels" is known (below).
-      if (image || !ParsePositive(Trim(value), defaultLevels))
-      {
-        problems.push_back(std::string("metadata ") + DefaultLevelsKey + " \"" + value + "\" " +
-          (image ? "is only for guidenet-v1 models" : "is not a positive integer"));
-        defaultLevels = 0;
-      }
-    }
-
-    if (haveLevels && defaultLevels > static_cast<int>(levels.size()))
-    {
-      problems.push_back(std::string("metadata ") + DefaultLevelsKey + " \"" +
-        std::to_string(defaultLevels) + "\" is above the model's " +
-        std::to_string(levels.size()) + " levels");
-      defaultLevels = 0;
-    }
-
-    if (image && guideStride != 1)
-    {
-      problems.push_back(std::string("metadata ") + GuideStrideKey +
-        " is only for guidenet-v1 models, an image model runs at full resolution");
-    }
-
-    if (lookup(DemodulateKey, value))
-    {
-      if (value == "0" || value == "1")
-      {
-        demodulate = value == "1";
-      }
-      else
-      {
-        problems.push_back(std::string("metadata ") + DemodulateKey + " \"" + value +
-          "\" is not 0 or 1");
-      }
-    }
+    meta = ReadGuideNetMetadata(lookup, problems);
+    const std::vector<std::string>& channels = meta.Channels;
+    const std::vector<std::pair<int, int>>& levels = meta.Levels;
 
     // Input: exactly one float tensor [1, C, H, W].
     const size_t nIn = in.Session.GetInputCount();
@@ -406,10 +224,10 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
           {
             problems.push_back(what + " has a dynamic channel dimension " + ShapeString(s));
           }
-          else if (haveChannels && s[1] != static_cast<int64_t>(channels.size()))
+          else if (meta.HaveChannels && s[1] != static_cast<int64_t>(channels.size()))
           {
             problems.push_back("model declares " + std::to_string(s[1]) +
-              " input channels but " + ChannelsKey + " lists " +
+              " input channels but " + kChannelsKey + " lists " +
               std::to_string(channels.size()) + ": " + Join(channels, ","));
           }
         }
@@ -429,15 +247,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
         const auto& s = in.OutputShape;
         // Guides and blend weights, then any padding channels ptv.outputs names "pad..." (ONNX
         // Runtime's fast convolutions want channel counts that are multiples of 8).
-        int64_t padding = 0;
-        if (lookup(OutputsKey, value))
-        {
-          const std::vector<std::string> names = Split(value, ',');
-          for (auto it = names.rbegin(); it != names.rend() && it->rfind("pad", 0) == 0; ++it)
-          {
-            ++padding;
-          }
-        }
+        const int64_t padding = meta.OutputPadding;
         const int64_t expected = 2 * static_cast<int64_t>(levels.size()) - 1 + padding;
         if (s.size() != 4)
         {
@@ -448,18 +258,18 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
         {
           problems.push_back(what + " has a dynamic channel dimension " + ShapeString(s));
         }
-        else if (image && s[1] != 3)
+        else if (meta.Image && s[1] != 3)
         {
           problems.push_back(what + " has " + std::to_string(s[1]) +
             " channels, a denoiser-v1 model outputs 3 (RGB radiance)");
         }
-        else if (haveLevels && s[1] != expected)
+        else if (meta.HaveLevels && s[1] != expected)
         {
           problems.push_back("model outputs " + std::to_string(s[1]) + " channels but " +
-            LevelsKey + " lists " + std::to_string(levels.size()) + " levels (expected 2L - 1 = " +
+            kLevelsKey + " lists " + std::to_string(levels.size()) + " levels (expected 2L - 1 = " +
             std::to_string(expected - padding) + ": guides, then blend weights" +
             (padding ? ", then the " + std::to_string(padding) + " padding channels of " +
-                OutputsKey : std::string()) + ")");
+                kOutputsKey : std::string()) + ")");
         }
         else
         {
@@ -485,13 +295,13 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   }
   this->Path = path;
   this->Provider = provider;
-  this->Channels = std::move(channels);
-  this->Levels = std::move(levels);
-  this->GuideScale = guideScale;
-  this->Demodulate = demodulate;
-  this->ImageOutput = image;
-  this->GuideStride = guideStride;
-  this->DefaultLevels = defaultLevels;
+  this->Channels = std::move(meta.Channels);
+  this->Levels = std::move(meta.Levels);
+  this->GuideScale = meta.GuideScale;
+  this->Demodulate = meta.Demodulate;
+  this->ImageOutput = meta.Image;
+  this->GuideStride = meta.GuideStride;
+  this->DefaultLevels = meta.DefaultLevels;
   this->OutputChannels = outputChannels;
   return true;
 }
