@@ -36,11 +36,14 @@ void FrameLoop::Refine(const FrameRequest& request, FrameMessages& messages)
   const int cap = std::min(request.MaximumAccumulatedFrames, request.MaximumStillFrames);
   const double start = Now();
   double predicted = std::max(cap, 1); // frames this still will take, as far as is known
-  auto progress = [&request](double fraction)
+  // The fraction shown never goes back, though the predicted frame count may grow.
+  double shown = 0.0;
+  auto progress = [&request, &shown](double fraction)
   {
+    shown = std::max(shown, std::min(1.0, fraction));
     if (request.Progress)
     {
-      request.Progress(std::min(1.0, std::max(0.0, fraction)));
+      request.Progress(shown);
     }
   };
   // The least a still traces: Convergence::kMinimumStillSamples samples per pixel (counted in
