@@ -39,14 +39,10 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 
 def export_levels(run: Path, levels: int, folder: Path) -> Path:
     """The run's best checkpoint as ONNX with its finest ``levels`` grid levels."""
-    import torch
-
     from .export_onnx import export
-    from .guidenet import GuideNet
+    from .train import load_run
 
-    ck = torch.load(run / "best.pt", weights_only=False)
-    model = GuideNet(**ck["config"])
-    model.load_state_dict(ck["model"])
+    model, ck = load_run(run)
     return export(model, folder / f"{run.name}_L{levels}.onnx", ck["channels"],
                   [tuple(level) for level in ck["levels"]],
                   extra_metadata={"ptv.demodulate": "1" if ck.get("demodulate", True) else "0"},

@@ -184,7 +184,7 @@ def compare(runs: Sequence[Path], data: Path, heldout: Path, paper_cache: Path,
 
     from .compare import oidn_fast
     from .data import sample_passes, split_views
-    from .level_probe import load_run
+    from .train import load_run
 
     torch.set_num_threads(2)
     _, val, _ = split_views(data, 2)

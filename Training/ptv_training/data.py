@@ -113,7 +113,7 @@ def with_aux_passes(passes: Dict[str, np.ndarray], aux: Dict[str, np.ndarray]
                     ) -> Dict[str, np.ndarray]:
     """``passes`` with every auxiliary pass (all but Radiance and HistoryLength) replaced by
     ``aux``'s: the radiance of few samples with the anti-aliased features of more (the study
-    of ``train.py --aux-spp``, ``aux_spp.py``)."""
+    of ``train.py --aux-spp``, ``research/training/aux_spp.py``)."""
     out = dict(passes)
     out.update({name: image for name, image in aux.items()
                 if name not in ("Radiance", "HistoryLength")})
@@ -131,10 +131,10 @@ def with_edge_samples(passes: Dict[str, np.ndarray], more: Dict[str, np.ndarray]
     edge_samples.md``), and above 1 spp it finds the edges in each frame, here in the s-spp
     mean. HistoryLength stays the frame count.
 
-    Also a study pass ``DepthSpread`` (``features.py``, ``noise_aware.py``): on the edge
-    pixels |dA - dB| between the first-event depth of the frame's own samples (A, ``passes``)
-    and the mean of the ``samples`` - 1 others (B, from ``more``) where both hit, 0 elsewhere:
-    the disagreement the mapper's edge samples could measure per pixel."""
+    Also a study pass ``DepthSpread`` (``features.py``, ``research/training/noise_aware.py``):
+    on the edge pixels |dA - dB| between the first-event depth of the frame's own samples (A,
+    ``passes``) and the mean of the ``samples`` - 1 others (B, from ``more``) where both hit, 0
+    elsewhere: the disagreement the mapper's edge samples could measure per pixel."""
     from pathtracedvolume.edges import edge_mask
 
     mask = edge_mask(passes["Coverage"][..., 0])

@@ -48,7 +48,7 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import torch
@@ -99,6 +99,15 @@ def run_model(model: GuideNet | UNet, features: torch.Tensor, radiance: torch.Te
                   weights if n > 1 else None,
                   levels=levels, clamp=clamp)
     return out, guides, weights
+
+
+def load_run(run: Path) -> Tuple[GuideNet, Dict[str, Any]]:
+    """(GuideNet in eval mode, checkpoint) of a training run's ``best.pt``."""
+    ck = torch.load(run / "best.pt", weights_only=False)
+    model = GuideNet(**ck["config"])
+    model.load_state_dict(ck["model"])
+    model.eval()
+    return model, ck
 
 
 def cosine_rate(base: float, step: int, total: int, floor: float = 0.01) -> float:
