@@ -172,3 +172,23 @@ def test_render_only_refuses_an_old_results_json(report: Path, copy_of: Path) ->
                 "temporal.orbit_tpsnr"):
         assert key in run.stderr, run.stderr
     assert not (copy_of / "report.md").exists()
+
+
+def test_a_trace_leaves_the_scene_mapper_settings() -> None:
+    """``Scenes.trace`` sets EdgeSamples for its own frames only: the quality-against-samples
+    section denoises through the same scene's mapper and must see the mapper's defaults (a
+    trace once left EdgeSamples at 1 there)."""
+    sys.path.insert(0, str(ROOT / "Testing" / "Benchmarks"))
+    from evaluation.scenes import Scenes
+
+    from pathtracedvolume import vtkPTVExpertOptions
+
+    defaults = vtkPTVExpertOptions()
+    scenes = Scenes(threads=1)
+    spec = {"volume": "head", "size": [16, 12]}
+    options = scenes.scene(spec).mapper.GetExpertOptions()
+    for edge_samples in (1, 3):
+        data = scenes.trace(spec, 5, 2, {2: ["Radiance"]}, edge_samples=edge_samples)
+        assert data["Radiance@2"].shape == (12, 16, 3)
+        assert options.GetEdgeSamples() == defaults.GetEdgeSamples()
+        assert options.GetComputeEdgeSamples() == defaults.GetComputeEdgeSamples()

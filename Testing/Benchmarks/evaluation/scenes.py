@@ -148,6 +148,8 @@ class Scenes:
         mapper's EdgeSamples, as in a denoised frame); ``"<pass>@<k>"`` for every pass in
         ``grab[k]``, plus ``"trace_ms"`` (each frame's trace time)."""
         scene = self.scene(spec)
+        options = scene.mapper.GetExpertOptions()
+        saved = options.GetEdgeSamples(), options.GetComputeEdgeSamples()
         set_edge_samples(scene, edge_samples)
         out: Dict[str, np.ndarray] = {}
         bar = tqdm(total=frames, desc=desc, unit="spp", leave=False, disable=frames < 64)
@@ -156,9 +158,14 @@ class Scenes:
             bar.update(1)
             for name in grab.get(k, ()):
                 out[f"{name}@{k}"] = scene.grab(name)
-        out["trace_ms"] = np.asarray(scene.render(seed, frames, on_frame))
-        bar.close()
-        set_edge_samples(scene, 1)
+        try:
+            out["trace_ms"] = np.asarray(scene.render(seed, frames, on_frame))
+        finally:
+            bar.close()
+            # The scene's mapper keeps its own settings (a later section that denoises through
+            # the mapper, "samples", sees its defaults, not this trace's).
+            options.SetEdgeSamples(saved[0])
+            options.SetComputeEdgeSamples(saved[1])
         return out
 
     def frame(self, spec: Mapping[str, Any], seed: int) -> pb.Passes:
