@@ -22,7 +22,6 @@ vtkPTVExpertOptions::vtkPTVExpertOptions()
   this->FootprintRays = scene.FootprintRays;
   this->EdgeSamples = defaults.EdgeSamples;
   this->ComputeEdgeSamples = defaults.ComputeEdgeSamples;
-  this->KeepEdgeMeans = defaults.KeepEdgeMeans;
   this->AmbientOcclusionReach = scene.AmbientOcclusionReach;
   this->UseRendererLight = scene.UseRendererLight;
   std::copy(scene.EnvironmentColor, scene.EnvironmentColor + 3, this->EnvironmentColor);
@@ -69,7 +68,6 @@ void vtkPTVExpertOptions::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FootprintRays: " << this->FootprintRays << "\n";
   os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
   os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";
-  os << indent << "KeepEdgeMeans: " << this->KeepEdgeMeans << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";
   os << indent << "UseRendererLight: " << this->UseRendererLight << "\n";
   os << indent << "EnvironmentColor: " << this->EnvironmentColor[0] << ", "

@@ -69,14 +69,6 @@ public:
   vtkBooleanMacro(ComputeEdgeSamples, bool);
   ///@}
 
-  ///@{
-  /// The denoiser keeps part of each edge pixel's own mean on the first frame of a view.
-  /// Default off.
-  vtkSetMacro(KeepEdgeMeans, bool);
-  vtkGetMacro(KeepEdgeMeans, bool);
-  vtkBooleanMacro(KeepEdgeMeans, bool);
-  ///@}
-
   /// How far environment rays look for occluders, as a fraction of the volume's diagonal
   /// (0: unoccluded). Default 1, range [0, 1].
   virtual void SetAmbientOcclusionReach(double value);
@@ -144,7 +136,6 @@ protected:
   bool FootprintRays;
   int EdgeSamples;
   bool ComputeEdgeSamples;
-  bool KeepEdgeMeans;
   double AmbientOcclusionReach;
   bool UseRendererLight;
   double EnvironmentColor[3];

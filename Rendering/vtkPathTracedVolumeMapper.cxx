@@ -326,7 +326,6 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoise = this->Denoise;
     request.EdgeSamples = options->GetEdgeSamples();
     request.ComputeEdgeSamples = options->GetComputeEdgeSamples();
-    request.KeepEdgeMeans = options->GetKeepEdgeMeans();
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
     request.Denoiser.UseNetwork = options->GetDenoiserUseNetwork();
     request.Denoiser.Footprint = options->GetDenoiserFootprint();

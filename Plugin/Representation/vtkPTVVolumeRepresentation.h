@@ -81,7 +81,6 @@ public:
   void SetDenoiserUseNetwork(bool value);
   void SetDenoiserFootprint(bool value);
   void SetEdgeSamples(int value);
-  void SetKeepEdgeMeans(bool value);
   void SetDenoiserNumberOfLevels(int value);
   ///@}
 

@@ -129,12 +129,6 @@ void vtkPTVVolumeRepresentation::SetEdgeSamples(int value)
 }
 
 //------------------------------------------------------------------------------
-void vtkPTVVolumeRepresentation::SetKeepEdgeMeans(bool value)
-{
-  this->GetPathTracedMapper()->GetExpertOptions()->SetKeepEdgeMeans(value);
-}
-
-//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetDenoiserNumberOfLevels(int value)
 {
   this->GetPathTracedMapper()->GetExpertOptions()->SetDenoiserNumberOfLevels(value);

@@ -73,9 +73,6 @@ struct FrameRequest
   /// when the frame is denoised or with ComputeEdgeSamples.
   int EdgeSamples = 3;
   bool ComputeEdgeSamples = false;
-  /// The denoiser keeps part of each edge pixel's own mean (the SampleRatio pass) on the first
-  /// frame of a view.
-  bool KeepEdgeMeans = false;
   DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Footprint, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance
   /// A still render: trace frames until the estimated quality of what is shown reaches

@@ -43,8 +43,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
     std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
-    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "",
-    request.KeepEdgeMeans ? "means" : "" };
+    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "" };
   if (this->DenoisedValid && key == this->DenoiseKey)
   {
     return true; // nothing new to denoise
@@ -59,12 +58,8 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
     passes[p] = acc.Data(p);
   }
   passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
-  // With KeepEdgeMeans the edge pixels of the first frame lean towards their own means
-  // (SampleRatio); from the second frame on the Converged pass mixes every pixel's mean in.
-  if (request.KeepEdgeMeans && this->AccumulatedFrames < 2)
-  {
-    passes[PassSampleRatio] = acc.Data(PassSampleRatio);
-  }
+  // The SampleRatio pass is not given: leaning the edge pixels towards their own means cost
+  // the held-out narrow bands 1.1 dB of the shown first frame (docs/decisions.md).
   const double start = Now();
   std::string error;
   // With the opacity it is drawn with: Alpha through the same grid (one frame's alpha is 0 or 1

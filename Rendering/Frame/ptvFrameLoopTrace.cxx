@@ -176,7 +176,7 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
     this->AccumulatedFrames);
   // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples (the
-  // SampleRatio pass; with KeepEdgeMeans the denoiser leans them towards their own means).
+  // SampleRatio pass).
   float* ratio = this->Accumulated.Data(PassSampleRatio);
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   std::fill(ratio, ratio + pixels, 1.f);

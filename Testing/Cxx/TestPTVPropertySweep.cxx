@@ -300,7 +300,6 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
     mapper->GetExpertOptions()->SetExpectedCoverage(coin());
     mapper->GetExpertOptions()->SetFootprintRays(coin());
     mapper->GetExpertOptions()->SetComputeEdgeSamples(coin());
-    mapper->GetExpertOptions()->SetKeepEdgeMeans(coin());
     mapper->SetAmbientOcclusion(coin());
     mapper->GetExpertOptions()->SetUseRendererLight(coin());
     const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -82,15 +82,11 @@ TRACED_PASSES = 11  # the traced passes come first (vtkPathTracedVolumeMapper::G
 
 def set_traced_passes(mapper: Any, denoiser: Any) -> list:
     """Give ``denoiser`` (a vtkPTVDenoiser) the mapper's traced passes by name, as the mapper's
-    own denoise sees them (with its SampleRatio pass when KeepEdgeMeans is on and one frame has
-    accumulated: the edge pixels lean towards their own means); returns the images
-    (keep them while the denoiser runs)."""
+    own denoise sees them; returns the images (keep them while the denoiser runs)."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     images = []
     names = [mapper.GetPassName(i) for i in range(TRACED_PASSES)]
-    if mapper.GetExpertOptions().GetKeepEdgeMeans() and mapper.GetAccumulatedFrames() < 2:
-        names.append("SampleRatio")
     for name in names:
         image = vtkImageData()
         assert mapper.GetPass(name, image), name

@@ -73,11 +73,10 @@ def test_sample_ratio_pass_marks_them() -> None:
     assert mask.any() and np.all(ratio[mask] == 3.0) and np.all(ratio[~mask] == 1.0)
 
 
-@pytest.mark.parametrize("keep", [False, True], ids=["default", "keep_edge_means"])
-def test_keep_edge_means(keep: bool) -> None:
-    """KeepEdgeMeans (default off) hands the SampleRatio pass to the mapper's denoiser: its
-    Denoised pass is vtkPTVDenoiser's on the traced passes with that pass when on, without it
-    when off; the two differ, on the edge pixels only."""
+def test_mapper_denoises_without_the_sample_ratio() -> None:
+    """The mapper's Denoised pass on a view's first frame is vtkPTVDenoiser's on the traced
+    passes alone: the SampleRatio pass, which would lean the edge pixels towards their own means
+    (and differs from it on the edge pixels only), is not given (docs/decisions.md)."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     from ptv_wavelet_scene import set_traced_passes
@@ -85,8 +84,6 @@ def test_keep_edge_means(keep: bool) -> None:
     window, mapper, scene = wavelet_scene(SIZE, opacity=0.6, seed=3, denoise=True)
     scene[3].GetActiveCamera().Zoom(0.6)
     mapper.GetExpertOptions().SetMaximumAccumulatedFrames(1)
-    assert not mapper.GetExpertOptions().GetKeepEdgeMeans()
-    mapper.GetExpertOptions().SetKeepEdgeMeans(keep)
     window.Render()
     denoised = grid(get_pass(mapper, "Denoised", SIZE))
 
@@ -95,7 +92,7 @@ def test_keep_edge_means(keep: bool) -> None:
         denoiser.SetModelFile(mapper.GetDenoiserModelFile())
         denoiser.DenoiseAlphaOn()
         images = set_traced_passes(mapper, denoiser)
-        if with_ratio and not keep:
+        if with_ratio:
             image = vtkImageData()
             assert mapper.GetPass("SampleRatio", image)
             images.append(image)
@@ -105,12 +102,10 @@ def test_keep_edge_means(keep: bool) -> None:
         return grid(np.array([out.GetTuple3(i) for i in range(out.GetNumberOfTuples())],
                              np.float32))
 
-    assert np.array_equal(denoised, vtk_denoise(keep))
+    assert np.array_equal(denoised, vtk_denoise(False))
     edges = grid(get_pass(mapper, "SampleRatio", SIZE))[..., 0] > 1
-    other = vtk_denoise(not keep) if not keep else None
-    if other is not None:
-        differ = np.any(other != denoised, axis=-1)
-        assert edges.any() and differ.any() and not differ[~edges].any()
+    differ = np.any(vtk_denoise(True) != denoised, axis=-1)
+    assert edges.any() and differ.any() and not differ[~edges].any()
 
 
 def test_frames_are_deterministic_and_thread_independent() -> None:
