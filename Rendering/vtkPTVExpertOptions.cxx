@@ -28,7 +28,6 @@ vtkPTVExpertOptions::vtkPTVExpertOptions()
   this->UseBackgroundAsEnvironment = scene.UseBackgroundAsEnvironment;
   this->EmptySpaceSkipping = scene.EmptySpaceSkipping;
   this->DenoiserUseNetwork = defaults.Denoiser.UseNetwork;
-  this->DenoiserFootprint = defaults.Denoiser.Footprint;
   this->DenoiserNumberOfLevels = defaults.Denoiser.Levels;
 }
 
@@ -75,6 +74,5 @@ void vtkPTVExpertOptions::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UseBackgroundAsEnvironment: " << this->UseBackgroundAsEnvironment << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "DenoiserUseNetwork: " << this->DenoiserUseNetwork << "\n";
-  os << indent << "DenoiserFootprint: " << this->DenoiserFootprint << "\n";
   os << indent << "DenoiserNumberOfLevels: " << this->DenoiserNumberOfLevels << "\n";
 }

@@ -110,14 +110,6 @@ public:
   vtkBooleanMacro(DenoiserUseNetwork, bool);
   ///@}
 
-  ///@{
-  /// With Denoise, trace the "Footprint" pass and keep the pixels it marks empty black.
-  /// Default on.
-  vtkSetMacro(DenoiserFootprint, bool);
-  vtkGetMacro(DenoiserFootprint, bool);
-  vtkBooleanMacro(DenoiserFootprint, bool);
-  ///@}
-
   /// Bilateral-grid levels of the denoiser: 0 = the model's choice for the image size,
   /// 1..3 = the finest. Default 0, range [0, 3].
   virtual void SetDenoiserNumberOfLevels(int value);
@@ -142,7 +134,6 @@ protected:
   bool UseBackgroundAsEnvironment;
   bool EmptySpaceSkipping;
   bool DenoiserUseNetwork;
-  bool DenoiserFootprint;
   int DenoiserNumberOfLevels;
 
 private:

@@ -328,7 +328,6 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.ComputeEdgeSamples = options->GetComputeEdgeSamples();
     request.Denoiser.ModelFile = this->DenoiserModelFile ? this->DenoiserModelFile : "";
     request.Denoiser.UseNetwork = options->GetDenoiserUseNetwork();
-    request.Denoiser.Footprint = options->GetDenoiserFootprint();
     request.Denoiser.Levels = options->GetDenoiserNumberOfLevels();
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
     request.Still = this->ConvergeStillRenders && vol->GetAllocatedRenderTime() >= 1.0;

@@ -79,7 +79,6 @@ public:
   void SetDenoise(bool value);
   void SetDenoiserModelFile(const char* path);
   void SetDenoiserUseNetwork(bool value);
-  void SetDenoiserFootprint(bool value);
   void SetEdgeSamples(int value);
   void SetDenoiserNumberOfLevels(int value);
   ///@}

@@ -117,12 +117,6 @@ void vtkPTVVolumeRepresentation::SetDenoiserUseNetwork(bool value)
 }
 
 //------------------------------------------------------------------------------
-void vtkPTVVolumeRepresentation::SetDenoiserFootprint(bool value)
-{
-  this->GetPathTracedMapper()->GetExpertOptions()->SetDenoiserFootprint(value);
-}
-
-//------------------------------------------------------------------------------
 void vtkPTVVolumeRepresentation::SetEdgeSamples(int value)
 {
   this->GetPathTracedMapper()->GetExpertOptions()->SetEdgeSamples(value);

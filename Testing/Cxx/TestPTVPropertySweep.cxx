@@ -311,7 +311,6 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
     mapper->SetDenoise(coin());
     mapper->SetDenoiserModelFile(models[pick(0, 3)]);
     mapper->GetExpertOptions()->SetDenoiserUseNetwork(coin());
-    mapper->GetExpertOptions()->SetDenoiserFootprint(coin());
     mapper->SetDisplayPass(displays[pick(0, 8)]);
     const bool distributed = unit(rng) < 0.25; // one process: the piece is the whole volume
     mapper->SetDistributedVolume(distributed);

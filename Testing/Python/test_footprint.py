@@ -100,39 +100,11 @@ def test_denoised_image_is_black_where_the_footprint_is_empty() -> None:
     assert np.all(marked[empty] == 0) and ones[empty].max() > 0  # it changed something
 
 
-def test_denoiser_footprint_off() -> None:
-    """DenoiserFootprint off: with Denoise the pass is not traced (all 1) and no pixel is
-    cleared; FootprintRays on still traces it, and the denoiser leaves it unused."""
-    marked, _ = render(False, denoise=True)
-
-    def off(compute: bool) -> dict:
-        window, mapper, keep = wavelet_scene(SIZE, opacity=0.3, seed=3, denoise=True)
-        keep[3].GetActiveCamera().Zoom(0.6)
-        mapper.GetExpertOptions().SetMaximumAccumulatedFrames(1)
-        mapper.GetExpertOptions().DenoiserFootprintOff()
-        mapper.GetExpertOptions().SetFootprintRays(compute)
-        window.Render()
-        return {name: get_pass(mapper, name, SIZE) for name in ("Footprint", "Denoised")}
-
-    plain, traced = off(False), off(True)
-    assert np.all(plain["Footprint"] == 1.0)
-    assert np.array_equal(traced["Footprint"], marked["Footprint"])
-    assert np.array_equal(traced["Denoised"], plain["Denoised"])
-    empty = empty_by_corners(grid(marked["Footprint"])[..., 0]).ravel()
-    assert np.all(marked["Denoised"].reshape(-1, 3)[empty] == 0)
-    assert plain["Denoised"].reshape(-1, 3)[empty].max() > 0
-    shown = ~empty
-    assert np.array_equal(plain["Denoised"].reshape(-1, 3)[shown],
-                          marked["Denoised"].reshape(-1, 3)[shown])
-
-
 def test_footprint_in_the_settings() -> None:
     """Documented properties with their defaults, printed by PrintSelf."""
     mapper = ptv.vtkPathTracedVolumeMapper()
     options = mapper.GetExpertOptions()
-    assert not options.GetFootprintRays() and options.GetDenoiserFootprint()
+    assert not options.GetFootprintRays()
     mapper.GetExpertOptions().FootprintRaysOn()
-    mapper.GetExpertOptions().DenoiserFootprintOff()
-    assert options.GetFootprintRays() and not options.GetDenoiserFootprint()
-    text = str(mapper)
-    assert "FootprintRays: 1" in text and "DenoiserFootprint: 0" in text
+    assert options.GetFootprintRays()
+    assert "FootprintRays: 1" in str(mapper)

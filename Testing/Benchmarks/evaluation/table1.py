@@ -108,7 +108,7 @@ def timed_rounds(bench: Bench, ds: str, passes: Mapping[str, np.ndarray], rounds
     passes in the same rounds (pb.interleaved: a slow spell of the shared machine slows them
     alike), one warm-up round, then ``rounds``: (median trace ms of a plain frame (the N-spp
     sweep's), the same with what the mapper traces when it denoises -- the Coverage pass where
-    our model reads it, the Footprint pass (DenoiserFootprint, on by default), EdgeSamples --,
+    our model reads it, the Footprint pass (traced for every denoised frame), EdgeSamples --,
     the same with EdgeSamples alone (OIDN's frames: the same samples, without the passes only
     our denoiser reads), per denoiser the row of pb.run_ours / pb.run_oidn with medians over
     the rounds). Every denoiser runs right after a trace of its own kind, as in a frame: the
