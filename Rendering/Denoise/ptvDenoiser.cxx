@@ -49,7 +49,7 @@ bool Denoiser::Run(const DenoiserSettings& settings, const float* const* passes,
     LeanTowardsOwnMeans(settings.Threads, width, height, passes[PassSampleRatio],
       passes[PassRadiance], passes[PassAlpha], out, alpha);
   }
-  if (settings.Footprint && passes[PassFootprint])
+  if (passes[PassFootprint]) // pixels it marks empty stay black
   {
     KeepEmptyBlack(settings.Threads, width, height, passes[PassFootprint], out, alpha);
   }

@@ -25,8 +25,6 @@ struct DenoiserSettings
 {
   std::string ModelFile; ///< empty: the shipped model (ptv::DefaultModelFile())
   bool UseNetwork = true; ///< false: always the fixed guide
-  /// Keep the pixels that the Footprint pass (when given) marks empty black (Run).
-  bool Footprint = true;
   int Levels = 0;         ///< 0: the model's (3 for the fixed guide); 1..3, <= the model's
   double Clamp = 8.0;     ///< outlier clamp factor before splatting (0 = off)
   int Threads = 0;        ///< <= 0: every core

@@ -138,10 +138,9 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
       (request.Denoise && this->Parallel.Shows() &&
         this->Denoising.ReadsChannel(this->SettingsOf(request), "coverage"))) != 0;
   // The Footprint pass: asked for (FootprintRays), or for the denoiser, which keeps the
-  // pixels it marks empty black (always, since issue #61: docs/decisions.md).
+  // pixels it marks empty black (docs/decisions.md).
   request.Scene.FootprintRays = this->Parallel.Agree(request.Scene.FootprintRays ||
-                                  (request.Denoise && request.Denoiser.Footprint &&
-                                    this->Parallel.Shows())) != 0;
+                                  (request.Denoise && this->Parallel.Shows())) != 0;
 
   int width = 0, height = 0, x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);

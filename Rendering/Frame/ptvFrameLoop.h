@@ -73,7 +73,7 @@ struct FrameRequest
   /// when the frame is denoised or with ComputeEdgeSamples.
   int EdgeSamples = 3;
   bool ComputeEdgeSamples = false;
-  DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Footprint, Levels (Threads, UseCuda: here)
+  DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance
   /// A still render: trace frames until the estimated quality of what is shown reaches
   /// StillQuality (dB), or MaximumStillFrames (also capped by MaximumAccumulatedFrames) are

@@ -43,7 +43,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
 {
   const std::vector<std::string> key = { request.Denoiser.ModelFile,
     std::to_string(request.Denoiser.Levels), std::to_string(request.Threads),
-    request.Denoiser.UseNetwork ? "net" : "fixed", request.Denoiser.Footprint ? "fp" : "" };
+    request.Denoiser.UseNetwork ? "net" : "fixed" };
   if (this->DenoisedValid && key == this->DenoiseKey)
   {
     return true; // nothing new to denoise
