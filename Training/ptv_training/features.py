@@ -42,7 +42,7 @@ Channels (names are what ``ptv.input_channels`` of an exported model lists)::
                         in a fog or a thin translucent layer, 1 on an opaque surface
     depth_spread        clip(DepthSpread / (dmax - dmin), 0, 1) with the depth channel's range
                         over hits (0 for a zero range): how noisy the pixel's depth is. A study
-                        channel (``Training/results/noise_aware.md``): the C++ denoiser does not
+                        channel (``research/training/results/noise_aware.md``): the C++ denoiser does not
                         build it, so a model that reads it cannot be shipped
     history             1 / max(1, HistoryLength) (NaN counts as 1, +inf gives 0): the share of
                         the newest frame in the pixel's mean (a still accumulation of k

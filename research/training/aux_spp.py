@@ -85,8 +85,8 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     p.add_argument("--paper-cache", type=Path,
                    default=REPO_ROOT / ".cache" / "training" / "paper_views",
                    help="rendered Table-1 views (default .cache/training/paper_views)")
-    p.add_argument("--out", type=Path, default=REPO_ROOT / "Training" / "results" / "aux_spp",
-                   help="write OUT.md and OUT.json (default Training/results/aux_spp)")
+    p.add_argument("--out", type=Path, default=REPO_ROOT / "research" / "training" / "results" / "aux_spp",
+                   help="write OUT.md and OUT.json (default research/training/results/aux_spp)")
     return p.parse_args(argv)
 
 

@@ -171,8 +171,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                    default=REPO_ROOT / ".cache" / "training" / "paper_views",
                    help="compare.py's Table-1 views (default .cache/training/paper_views)")
     p.add_argument("--rounds", type=int, default=3, help="timing rounds (default 3)")
-    p.add_argument("--results", type=Path, default=REPO_ROOT / "Training" / "results",
-                   help="write coverage_frames.md/.json here (default Training/results)")
+    p.add_argument("--results", type=Path, default=REPO_ROOT / "research" / "training" / "results",
+                   help="write coverage_frames.md/.json here (default research/training/results)")
     p.add_argument("--no-progress", action="store_true", help="no tqdm progress bar")
     args = p.parse_args(argv)
     missing = [str(m) for m in args.model if not m.is_file()]

@@ -68,8 +68,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                    default=[REPO_ROOT / ".cache" / "training" / "heldout"],
                    help="folders of views: heldout.py's (default .cache/training/heldout) "
                         "and/or generate.py's")
-    p.add_argument("--results", type=Path, default=REPO_ROOT / "Training" / "results",
-                   help="write feature_noise.md/.json here (default Training/results)")
+    p.add_argument("--results", type=Path, default=REPO_ROOT / "research" / "training" / "results",
+                   help="write feature_noise.md/.json here (default research/training/results)")
     p.add_argument("--no-progress", action="store_true", help="no tqdm progress bar")
     args = p.parse_args(argv)
     files = sorted(f for d in args.views_dir for f in d.glob("*.exr"))

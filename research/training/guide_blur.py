@@ -22,7 +22,7 @@ Example::
 
     PYTHONPATH=build/python .venv/bin/python Training/ptv_training/guide_blur.py \\
         --run .cache/training/runs/data2x_s0 --views .cache/training/heldout/*.exr \\
-        .cache/training/v2/*_05[01].exr --out Training/results/guide_blur
+        .cache/training/v2/*_05[01].exr --out research/training/results/guide_blur
 """
 from __future__ import annotations
 

@@ -19,7 +19,7 @@ Example (the held-out views and the validation views of the training data)::
 
     PYTHONPATH=build/python .venv/bin/python Training/ptv_training/level_probe.py \\
         --run .cache/training/runs/ship_v4 --views .cache/training/heldout/*.exr \\
-        .cache/training/v2/*_05[01].exr --out Training/results/level_probe
+        .cache/training/v2/*_05[01].exr --out research/training/results/level_probe
 """
 from __future__ import annotations
 

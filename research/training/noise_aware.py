@@ -180,8 +180,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                         "validation views are evaluated too")
     p.add_argument("--views-dir", type=Path, default=REPO_ROOT / ".cache" / "training" / "heldout",
                    help="heldout.py's rendered views (default .cache/training/heldout)")
-    p.add_argument("--results", type=Path, default=REPO_ROOT / "Training" / "results",
-                   help="write noise_aware.md/.json here (default Training/results)")
+    p.add_argument("--results", type=Path, default=REPO_ROOT / "research" / "training" / "results",
+                   help="write noise_aware.md/.json here (default research/training/results)")
     p.add_argument("--masked-blur", action="store_true",
                    help="also the last run with a box mean of its features or guides on the "
                         "pixels whose depth_spread exceeds a threshold (module doc)")
