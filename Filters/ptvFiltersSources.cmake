@@ -13,6 +13,7 @@ set(ptv_filters_private_headers
   ptvEXRChannels.h
   Validators/ptvEXRLayout.h
   ptvOpenVDBGrid.h
+  ptvOpenVDBGuard.h
   Validators/ptvOpenVDBLayout.h
   Validators/ptvOpenVDBTree.h
   ptvQuote.h)
@@ -21,5 +22,6 @@ set(ptv_filters_sources
   ptvEXRChannels.cxx
   Validators/ptvEXRLayout.cxx
   ptvOpenVDBGrid.cxx
+  ptvOpenVDBWrite.cxx
   Validators/ptvOpenVDBLayout.cxx
   Validators/ptvOpenVDBTree.cxx)

@@ -354,7 +354,8 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       return window && window->CheckAbortStatus() != 0;
     };
     ptv::GatherClipping(this, scene, this->Internals->ClipProblems);
-    ptv::GatherBlendMode(this, vol->GetProperty(), scene, this->Internals->BlendProblem);
+    ptv::GatherBlendMode(this, this->DistributedVolume != 0, vol->GetProperty(), scene,
+      this->Internals->BlendProblem);
     request.Denoise = request.Denoise && scene.Projection == 0; // a projection has no noise
 
     ptv::FrameMessages messages;

@@ -1,6 +1,5 @@
 #include "ptvSceneRequest.h"
 
-#include "vtkPathTracedVolumeMapper.h"
 
 #include "Kernels/ptvTraceParams.h"
 #include "ptvFrameSettings.h"
@@ -9,6 +8,7 @@
 #include "vtkMath.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
+#include "vtkVolumeMapper.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
@@ -22,8 +22,7 @@ namespace ptv
 {
 // Clipping planes (world) and cropping into the frame settings; bad ones reported and skipped.
 // A problem is reported when the set of problems differs from the last frame's (@a reported).
-void GatherClipping(
-  vtkPathTracedVolumeMapper* self, ptv::FrameSettings& scene, std::string& reported)
+void GatherClipping(vtkVolumeMapper* self, ptv::FrameSettings& scene, std::string& reported)
 {
   std::ostringstream problems;
   scene.ClipPlaneCount = 0;
@@ -98,7 +97,7 @@ static_assert(ptv::kProjectionMaximum == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEN
     ptv::kProjectionAdditive == vtkVolumeMapper::ADDITIVE_BLEND,
   "the kernel's projections use vtkVolumeMapper's blend-mode numbers");
 
-void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* property,
+void GatherBlendMode(vtkVolumeMapper* self, bool distributed, vtkVolumeProperty* property,
   ptv::FrameSettings& scene, std::string& reported)
 {
   static const char* const names[] = { "Composite", "MaximumIntensity", "MinimumIntensity",
@@ -109,7 +108,7 @@ void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* propert
   scene.Projection = 0;
   const bool projection = mode >= vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
     mode <= vtkVolumeMapper::ADDITIVE_BLEND;
-  if (projection && self->GetDistributedVolume())
+  if (projection && distributed)
   {
     problem << "BlendMode " << names[mode] << " (" << mode
             << ") is not supported for a volume split across processes (DistributedVolume); "

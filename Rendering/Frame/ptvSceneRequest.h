@@ -11,7 +11,7 @@
 
 #include <string>
 
-class vtkPathTracedVolumeMapper;
+class vtkVolumeMapper;
 class vtkVolumeProperty;
 
 namespace ptv
@@ -19,15 +19,15 @@ namespace ptv
 struct FrameSettings;
 
 /// Clipping planes (world) and cropping into @a scene; bad ones are reported and skipped.
-void GatherClipping(vtkPathTracedVolumeMapper* self, FrameSettings& scene, std::string& reported);
+void GatherClipping(vtkVolumeMapper* self, FrameSettings& scene, std::string& reported);
 
 /**
  * The blend mode into @a scene: Composite is the path tracer; IsoSurface traces the property's
  * iso values as surfaces (scene.Iso); the intensity projections are ray cast
- * (scene.Projection), except for a volume split across processes, which renders Composite;
- * Slice renders Composite.
+ * (scene.Projection), except for a volume split across processes (@a distributed), which
+ * renders Composite; Slice renders Composite.
  */
-void GatherBlendMode(vtkPathTracedVolumeMapper* self, vtkVolumeProperty* property,
+void GatherBlendMode(vtkVolumeMapper* self, bool distributed, vtkVolumeProperty* property,
   FrameSettings& scene, std::string& reported);
 }
 
