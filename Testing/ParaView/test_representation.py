@@ -360,6 +360,15 @@ check(mapper().GetExpertOptions().GetExpectedCoverage() and mapper().GetAccumula
       "ExpectedCoverage reaches the mapper and restarts the accumulation")
 display.ExpectedCoverage = 0
 
+# The MPI-only settings carry ParaView's session-type decorator (the panel shows them only in a
+# parallel session; Testing/Python/test_panel.py checks the XML): ParaView has read it.
+for name in ("ReplicateVolumeLimit", "GhostLayers"):
+    hints = display.GetProperty(name).SMProperty.GetHints()
+    decorator = hints.FindNestedElementByName("PropertyWidgetDecorator") if hints else None
+    check(decorator is not None and decorator.GetAttribute("type") == "SessionTypeDecorator"
+          and decorator.GetAttribute("requires") == "parallel",
+          "%s is shown only in a parallel session" % name)
+
 for name, value in [("EmptySpaceSkipping", 0), ("NumberOfThreads", 1)]:
     old = display.GetPropertyValue(name)
     display.SetPropertyWithName(name, value)
