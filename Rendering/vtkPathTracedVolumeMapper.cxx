@@ -8,6 +8,7 @@
 #include "ptvSceneRequest.h"
 #include "ptvSceneToKernel.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
@@ -36,6 +37,7 @@ struct vtkPathTracedVolumeMapper::vtkInternals
   std::string ClipProblems;  // the clipping/cropping problems last reported
   vtkSmartPointer<vtkMultiProcessController> Controller; // several processes (ptvRanks.h)
   vtkNew<vtkPTVExpertOptions> Options;
+  vtkNew<vtkPTVRenderStatistics> Statistics;
 };
 
 vtkStandardNewMacro(vtkPathTracedVolumeMapper);
@@ -80,6 +82,12 @@ vtkPathTracedVolumeMapper::~vtkPathTracedVolumeMapper()
 vtkPTVExpertOptions* vtkPathTracedVolumeMapper::GetExpertOptions()
 {
   return this->Internals->Options;
+}
+
+//------------------------------------------------------------------------------
+vtkPTVRenderStatistics* vtkPathTracedVolumeMapper::GetStatistics()
+{
+  return this->Internals->Statistics;
 }
 
 //------------------------------------------------------------------------------
@@ -375,14 +383,11 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   this->AccumulatedFrames = loop.GetAccumulatedFrames();
   this->LastRenderTraced = loop.GetLastRenderTraced();
-  this->LastRenderFrames = loop.GetLastRenderFrames();
   this->EstimatedQuality = loop.GetEstimatedQuality();
   this->StillConverged = loop.GetStillConverged();
-  this->LastTraceTime = loop.GetLastTraceTime();
-  this->LastDenoiseTime = loop.GetLastDenoiseTime();
-  this->ReprojectionReuse = loop.GetReprojectionReuse();
-  this->LastReprojectionTime = loop.GetLastReprojectionTime();
-  this->LastEdgeFraction = loop.GetLastEdgeFraction();
+  this->Internals->Statistics->Update(loop.GetLastRenderFrames(), loop.GetLastTraceTime(),
+    loop.GetLastDenoiseTime(), loop.GetLastReprojectionTime(), loop.GetReprojectionReuse(),
+    loop.GetLastEdgeFraction());
 }
 
 //------------------------------------------------------------------------------
@@ -448,6 +453,8 @@ void vtkPathTracedVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AccumulatedFrames: " << this->AccumulatedFrames << "\n";
   os << indent << "EstimatedQuality: " << this->EstimatedQuality << " dB\n";
   os << indent << "DenoiserStatus: " << this->Internals->Loop.GetDenoiserStatus() << "\n";
+  os << indent << "Statistics:\n";
+  this->Internals->Statistics->PrintSelf(os, indent.GetNextIndent());
   os << indent << "CpuKernelTarget: " << vtkPathTracedVolumeMapper::GetCpuKernelTarget() << "\n";
   os << indent << "CUDA: " << vtkPathTracedVolumeMapper::GetCudaStatus() << "\n";
 }

@@ -29,6 +29,7 @@
 class vtkImageData;
 class vtkMultiProcessController;
 class vtkPTVExpertOptions;
+class vtkPTVRenderStatistics;
 class vtkWindow;
 
 class VTKPTVRENDERING_EXPORT vtkPathTracedVolumeMapper : public vtkVolumeMapper
@@ -165,22 +166,15 @@ public:
   ///@{
   /// Frames in the current accumulation (0 before the first render).
   vtkGetMacro(AccumulatedFrames, int);
-  /// Frames traced by the last render (0, 1, or more for a still render).
-  vtkGetMacro(LastRenderFrames, int);
   /// Whether the last render traced (false once the accumulation is full).
   vtkGetMacro(LastRenderTraced, bool);
   /// Estimated PSNR (dB) of the image shown by the last still render; 0 when not known.
   vtkGetMacro(EstimatedQuality, double);
   /// Whether the last still render reached StillQuality.
   vtkGetMacro(StillConverged, bool);
-  /// Milliseconds the last render spent tracing, denoising and reprojecting.
-  vtkGetMacro(LastTraceTime, double);
-  vtkGetMacro(LastDenoiseTime, double);
-  vtkGetMacro(LastReprojectionTime, double);
-  /// Fraction of the volume's pixels that kept their history at the last camera move.
-  vtkGetMacro(ReprojectionReuse, double);
-  /// Fraction of the pixels that got edge samples in the last traced frame.
-  vtkGetMacro(LastEdgeFraction, double);
+  /// Frames traced, milliseconds per stage and the like of the last render (benchmarks and
+  /// diagnostics): vtkPTVRenderStatistics. Never null; owned by the mapper.
+  vtkPTVRenderStatistics* GetStatistics();
   /// What the last denoise used: "GuideNet <model> (...)" or "fixed guide: <why>".
   const char* GetDenoiserStatus();
   /// "CPU" or "CUDA": the backend of the last traced frame ("none" before the first).
@@ -247,17 +241,11 @@ protected:
   int WholeExtent[6];
 
   int AccumulatedFrames = 0;
-  int LastRenderFrames = 0;
   double EstimatedQuality = 0.0;
   bool StillConverged = false;
   bool LastRenderTraced = false;
-  double LastTraceTime = 0.0;
   bool RenderFailed = false; ///< the last Render traced no frame (GetPass says so)
   const char* NoFrameReason() const;
-  double LastDenoiseTime = 0.0;
-  double ReprojectionReuse = 0.0;
-  double LastReprojectionTime = 0.0;
-  double LastEdgeFraction = 0.0;
 
 private:
   vtkPathTracedVolumeMapper(const vtkPathTracedVolumeMapper&) = delete;

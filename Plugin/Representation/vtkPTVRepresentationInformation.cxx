@@ -4,6 +4,7 @@
 #include "vtkCompositeRepresentation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 #include "vtkPTVVolumeRepresentation.h"
 #include "vtkPathTracedVolumeMapper.h"
 
@@ -39,8 +40,8 @@ void vtkPTVRepresentationInformation::CopyFromObject(vtkObject* object)
   this->MaximumAccumulatedFrames = mapper->GetExpertOptions()->GetMaximumAccumulatedFrames();
   this->LastRenderTraced = mapper->GetLastRenderTraced();
   this->NeedsRefinement = repr->GetNeedsRefinement();
-  this->LastTraceTime = mapper->GetLastTraceTime();
-  this->LastDenoiseTime = mapper->GetLastDenoiseTime();
+  this->LastTraceTime = mapper->GetStatistics()->GetLastTraceTime();
+  this->LastDenoiseTime = mapper->GetStatistics()->GetLastDenoiseTime();
   this->EstimatedQuality = mapper->GetEstimatedQuality();
   this->StillConverged = mapper->GetStillConverged();
   const char* backend = mapper->GetActiveBackend();

@@ -179,7 +179,7 @@ class Scene:
             start = time.perf_counter()
             self.window.Render()
             wall = 1000.0 * (time.perf_counter() - start)
-            times.append(float(self.mapper.GetLastTraceTime()) if self.path_traced else wall)
+            times.append(float(self.mapper.GetStatistics().GetLastTraceTime()) if self.path_traced else wall)
             if on_frame is not None:
                 on_frame(k)
         return times

@@ -44,7 +44,7 @@ def main() -> int:
                 if i == 0:
                     continue  # warm-up
                 (denoise if denoise_on else trace).append(
-                    ours.GetLastDenoiseTime() if denoise_on else ours.GetLastTraceTime())
+                    ours.GetStatistics().GetLastDenoiseTime() if denoise_on else ours.GetStatistics().GetLastTraceTime())
         assert ours.GetActiveBackend() == name, ours.GetActiveBackend()
         rows[name] = (statistics.median(trace), statistics.median(denoise))
     print(f"| backend | trace ms ({args.size}², 1 spp) | denoise ms |")

@@ -83,8 +83,8 @@ def measure(dataset: str, size: int, repeats: int) -> dict:
             whole = 1000.0 * (time.perf_counter() - start)
         finally:
             os.environ.pop("PTV_PORTABLE_KERNELS", None)
-        return {"whole": whole, "trace": ours.GetLastTraceTime(),
-                "denoise": ours.GetLastDenoiseTime()}
+        return {"whole": whole, "trace": ours.GetStatistics().GetLastTraceTime(),
+                "denoise": ours.GetStatistics().GetLastDenoiseTime()}
 
     keys = ("stock", "ours", "one", "two", "portable", "end_to_end", "end_to_end_plain")
     rounds: dict = {k: [] for k in keys}

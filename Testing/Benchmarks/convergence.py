@@ -94,7 +94,7 @@ def stops(dataset: str, size: int, ref: np.ndarray, ref_mse: float,
         seconds = time.perf_counter() - start
         shown = scene.grab("Converged")
         mse = tone_mse(shown, ref)
-        rows.append({"dataset": dataset, "quality": quality, "frames": m.GetLastRenderFrames(),
+        rows.append({"dataset": dataset, "quality": quality, "frames": m.GetStatistics().GetLastRenderFrames(),
                      "seconds": seconds, "estimated": m.GetEstimatedQuality(),
                      "measured": psnr(max(mse - ref_mse, 1e-20)), "vs_reference": psnr(mse),
                      "converged": bool(m.GetStillConverged())})

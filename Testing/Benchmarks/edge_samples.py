@@ -95,10 +95,10 @@ def main() -> int:
                                 changed.shape + (-1,)), -1)
                         mask = edge_mask(base["Coverage"][..., 0])
                         identical = identical and not bool(np.any(changed & ~mask)) and bool(
-                            abs(mask.mean() - mapper.GetLastEdgeFraction()) < 1e-9)
+                            abs(mask.mean() - mapper.GetStatistics().GetLastEdgeFraction()) < 1e-9)
                     ours = cpp_denoise(a.model, passes, sorted(passes), threads=2)["output"]
                     rows.append({"size": size, "dataset": ds, "camera": cam, "count": count,
-                                 "edges": float(mapper.GetLastEdgeFraction()),
+                                 "edges": float(mapper.GetStatistics().GetLastEdgeFraction()),
                                  "ours": psnr(ours, ref),
                                  "oidn_fast": psnr(compare.oidn_fast(passes), ref)})
                 # timing: interleaved rounds of fresh frames (the second of two: tables warm)
@@ -109,7 +109,7 @@ def main() -> int:
                         mapper.GetExpertOptions().SetEdgeSamples(count)
                         mapper.GetExpertOptions().SetComputeEdgeSamples(count > 1)
                         scene.render(2)
-                        times[count].append(float(mapper.GetLastTraceTime()))
+                        times[count].append(float(mapper.GetStatistics().GetLastTraceTime()))
                 for row in rows[-len(a.counts):]:
                     c = row["count"]
                     row["trace_ms"] = statistics.median(times[c])

@@ -5,7 +5,7 @@ For every dataset (its paper preset and the benchmark view of ptvbench.BenchScen
 a reference of --ref-spp samples per pixel once (cached in --cache, seed 1000), then accumulates
 N = 1, 2, 4, ... --max-spp frames with seed 1 and records, for each N, the PSNR of the
 tone-mapped radiance against the reference and the summed trace time of the N frames (each
-frame's own GetLastTraceTime(), on --threads threads). Rows are appended to --csv under
+frame's own GetStatistics().GetLastTraceTime(), on --threads threads). Rows are appended to --csv under
 --label, so running the script once with the build before a change and once with the build
 after it (PYTHONPATH picks the build) puts both curves in one CSV; --plot draws every label's
 curve per dataset (PSNR against milliseconds, log time axis). A faster estimator at equal
@@ -82,7 +82,7 @@ def measure(args: argparse.Namespace) -> List[Dict[str, object]]:
 
         def on_frame(k: int) -> None:
             nonlocal elapsed
-            elapsed += float(scene.mapper.GetLastTraceTime())
+            elapsed += float(scene.mapper.GetStatistics().GetLastTraceTime())
             if k in counts:
                 psnr_at[k] = pb.quality(ref, scene.grab("Radiance"))[0]
                 time_at[k] = elapsed

@@ -25,6 +25,7 @@
 #include "vtkPlane.h"
 #include "vtkNew.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -184,7 +185,7 @@ void TestDenoise()
   s.Mapper->GetExpertOptions()->DenoiserUseNetworkOff(); // deterministic and model-independent
   s.Mapper->GetExpertOptions()->SetMaximumAccumulatedFrames(2);
   s.Window->Render();
-  Check(s.Mapper->GetLastDenoiseTime() > 0.0, "a traced frame is denoised");
+  Check(s.Mapper->GetStatistics()->GetLastDenoiseTime() > 0.0, "a traced frame is denoised");
   Check(std::string(s.Mapper->GetDenoiserStatus()).find("fixed guide") == 0,
     "status names the fixed guide");
   const auto denoised = s.Pass("Denoised");
@@ -196,11 +197,11 @@ void TestDenoise()
   Check(denoised != s.Pass("Radiance"), "denoising changes the image");
   s.Window->Render();
   s.Window->Render(); // accumulation limit reached: neither traced nor denoised again
-  Check(!s.Mapper->GetLastRenderTraced() && s.Mapper->GetLastDenoiseTime() == 0.0,
+  Check(!s.Mapper->GetLastRenderTraced() && s.Mapper->GetStatistics()->GetLastDenoiseTime() == 0.0,
     "nothing new, nothing denoised");
   s.Mapper->GetExpertOptions()->SetDenoiserNumberOfLevels(1);
   s.Window->Render();
-  Check(s.Mapper->GetLastDenoiseTime() > 0.0 && s.Mapper->GetAccumulatedFrames() == 2,
+  Check(s.Mapper->GetStatistics()->GetLastDenoiseTime() > 0.0 && s.Mapper->GetAccumulatedFrames() == 2,
     "a denoiser setting re-denoises without restarting the accumulation");
 
   // A missing model: the fixed guide takes over with one warning.

@@ -19,6 +19,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -359,7 +360,7 @@ void SweepVolume(const Volume& v, std::mt19937& rng, int trials)
     const double start = vtkTimerLog::GetUniversalTime();
     window->Render();
     const double seconds = vtkTimerLog::GetUniversalTime() - start;
-    const int frames = mapper->GetLastRenderFrames();
+    const int frames = mapper->GetStatistics()->GetLastRenderFrames();
     const bool converging = still && mapper->GetConvergeStillRenders();
     const int cap = std::min(mapper->GetExpertOptions()->GetMaximumStillFrames(),
       mapper->GetExpertOptions()->GetMaximumAccumulatedFrames());

@@ -22,6 +22,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 #include "vtkPathTracedVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -129,7 +130,7 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
   s.Mapper->AddObserver(vtkCommand::ProgressEvent, progress);
 
   s.Window->Render(); // desired update rate 0.0001 (VTK's default): a still render
-  const int frames = s.Mapper->GetLastRenderFrames();
+  const int frames = s.Mapper->GetStatistics()->GetLastRenderFrames();
   const double estimate = s.Mapper->GetEstimatedQuality();
   const std::vector<float> shown = s.Pass(denoise ? "Converged" : "Radiance");
   // The measured error against the truth: against the reference, less the reference's own.
@@ -146,13 +147,13 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
   Check(progressEvents > 0 && lastProgress == 1.0, label + "progress events end at 1");
 
   s.Window->Render();
-  Check(s.Mapper->GetLastRenderFrames() == 0 && s.Mapper->GetAccumulatedFrames() == frames,
+  Check(s.Mapper->GetStatistics()->GetLastRenderFrames() == 0 && s.Mapper->GetAccumulatedFrames() == frames,
     label + "a converged still render traces nothing");
 
   s.Window->SetDesiredUpdateRate(15.0); // the interactor's rate while the user drags
   s.Renderer->GetActiveCamera()->Azimuth(5);
   s.Window->Render();
-  Check(s.Mapper->GetLastRenderFrames() == 1 && s.Mapper->GetAccumulatedFrames() == 1,
+  Check(s.Mapper->GetStatistics()->GetLastRenderFrames() == 1 && s.Mapper->GetAccumulatedFrames() == 1,
     label + "an interactive render traces one frame");
   s.Window->SetDesiredUpdateRate(0.0001);
 
@@ -160,7 +161,7 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
   s.Mapper->GetExpertOptions()->SetMaximumStillFrames(5);
   s.Mapper->ResetAccumulation();
   s.Window->Render();
-  Check(s.Mapper->GetLastRenderFrames() == 5 && !s.Mapper->GetStillConverged(),
+  Check(s.Mapper->GetStatistics()->GetLastRenderFrames() == 5 && !s.Mapper->GetStillConverged(),
     label + "MaximumStillFrames stops a still render");
 
   Check(s.Mapper->GetStillTimeBudget() == 30.0, label + "a still render's default budget is 30 s");
@@ -179,8 +180,8 @@ void TestStillRender(const std::vector<float>& ref, double refMse, bool denoise)
     const double start = vtkTimerLog::GetUniversalTime();
     s.Window->Render();
     const double seconds = vtkTimerLog::GetUniversalTime() - start;
-    Check(s.Mapper->GetLastRenderFrames() >= 1 &&
-        s.Mapper->GetLastRenderFrames() <
+    Check(s.Mapper->GetStatistics()->GetLastRenderFrames() >= 1 &&
+        s.Mapper->GetStatistics()->GetLastRenderFrames() <
           s.Mapper->GetExpertOptions()->GetMaximumAccumulatedFrames() &&
         !s.Mapper->GetStillConverged() && seconds < 30.0,
       label + "StillTimeBudget stops a still render (" + std::to_string(seconds) + " s)");
@@ -203,7 +204,7 @@ void TestStillRenderBounds()
     Scene s;
     s.Mapper->SetSamplesPerFrame(64);
     s.Window->Render();
-    const int frames = s.Mapper->GetLastRenderFrames();
+    const int frames = s.Mapper->GetStatistics()->GetLastRenderFrames();
     Check(s.Mapper->GetStillConverged() && frames >= 2 && frames < 8,
       "SamplesPerFrame 64: the still's minimum is 8 samples, not 8 frames (took " +
         std::to_string(frames) + " frames)");
@@ -224,7 +225,7 @@ void TestStillRenderBounds()
       });
     s.Window->AddObserver(vtkCommand::AbortCheckEvent, abort);
     s.Window->Render();
-    const int frames = s.Mapper->GetLastRenderFrames();
+    const int frames = s.Mapper->GetStatistics()->GetLastRenderFrames();
     Check(frames >= 1 && frames <= 2 && !s.Mapper->GetStillConverged(),
       "the render window's abort check stops a still render (" + std::to_string(frames) +
         " frames)");
@@ -243,7 +244,7 @@ void TestStillRenderBounds()
       seen += a;
     }
     std::ostringstream what;
-    what << "2 x 1 window of a faint volume: " << s.Mapper->GetLastRenderFrames()
+    what << "2 x 1 window of a faint volume: " << s.Mapper->GetStatistics()->GetLastRenderFrames()
          << " frames, estimate " << s.Mapper->GetEstimatedQuality() << " dB, alpha sum " << seen;
     std::cout << what.str() << "\n";
     Check(seen > 0.0 && s.Mapper->GetEstimatedQuality() < 100.0, what.str());

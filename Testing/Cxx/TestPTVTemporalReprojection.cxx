@@ -23,6 +23,7 @@
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkPTVExpertOptions.h"
+#include "vtkPTVRenderStatistics.h"
 #include "vtkPiecewiseFunction.h"
 
 #include <algorithm>
@@ -153,9 +154,9 @@ void TestTranslation(double pixels)
   const std::vector<float> history = s.Pass("HistoryLength");
   const std::vector<float> alpha = s.Pass("Alpha");
   Check(s.Mapper->GetAccumulatedFrames() == 1, what + "the moved view has 1 frame of its own");
-  Check(s.Mapper->GetLastReprojectionTime() > 0.0, what + "the move was reprojected");
-  Check(s.Mapper->GetReprojectionReuse() > 0.9,
-    what + "most pixels keep their history: " + Num(s.Mapper->GetReprojectionReuse()));
+  Check(s.Mapper->GetStatistics()->GetLastReprojectionTime() > 0.0, what + "the move was reprojected");
+  Check(s.Mapper->GetStatistics()->GetReprojectionReuse() > 0.9,
+    what + "most pixels keep their history: " + Num(s.Mapper->GetStatistics()->GetReprojectionReuse()));
 
   // Pixels away from the entering columns (the camera moves right: the image moves left).
   const int entering = static_cast<int>(std::ceil(pixels)) + 1;
@@ -286,13 +287,13 @@ void TestTurnFade()
   Check(std::fabs(most - expected) < 1e-3,
     "a 2-degree turn caps the history at 4 x its fade (+1): " + Num(most) + " vs " +
       Num(expected));
-  Check(s.Mapper->GetReprojectionReuse() > 0.5, "the 2-degree turn kept most histories");
+  Check(s.Mapper->GetStatistics()->GetReprojectionReuse() > 0.5, "the 2-degree turn kept most histories");
   s.Frames(4);
   s.Renderer->GetActiveCamera()->Azimuth(9.0);
   s.Frames(1);
   history = s.Pass("HistoryLength");
   Check(*std::max_element(history.begin(), history.end()) == 1.0f &&
-      s.Mapper->GetReprojectionReuse() == 0.0,
+      s.Mapper->GetStatistics()->GetReprojectionReuse() == 0.0,
     "a 9-degree turn keeps no history");
 
   // The fade counts the view's rotation, not the central ray's: seen from 40 degrees above, a
@@ -324,7 +325,7 @@ void TestHistoryDropped()
   s.Frames(8);
   s.Pan(1.0);
   s.Frames(1);
-  Check(s.Mapper->GetReprojectionReuse() > 0.9, "the camera move kept the history");
+  Check(s.Mapper->GetStatistics()->GetReprojectionReuse() > 0.9, "the camera move kept the history");
   // A transfer-function change, in both scenes.
   for (Scene* scene : { &s, &fresh })
   {

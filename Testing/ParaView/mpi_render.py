@@ -94,7 +94,7 @@ piece = {"input_extent": list(mapper.GetInput().GetExtent()),
          "piece_extent": list(mapper.GetPieceExtent()),
          "whole_extent": list(mapper.GetWholeExtent()),
          "distributed": bool(mapper.GetDistributedVolume()),
-         "edge_fraction": mapper.GetLastEdgeFraction()}
+         "edge_fraction": mapper.GetStatistics().GetLastEdgeFraction()}
 info = {"ranks": ranks, "rank0": piece, "frames": args.frames, "seconds_after_first": seconds,
         "accumulated_before_screenshot": before, "accumulated_after_screenshot": frames(),
         "sampling_ranks": display.GetProperty("NumberOfSamplingRanks").GetData(),

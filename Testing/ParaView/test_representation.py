@@ -277,9 +277,9 @@ check(counts == [1, 2, 3, 4, 5, 5, 5] and not mapper().GetLastRenderTraced(),
 camera.Azimuth(1)
 Render(view)
 history = mapper_pass("HistoryLength")
-check(history.max() > 1 and mapper().GetReprojectionReuse() > 0.5,
+check(history.max() > 1 and mapper().GetStatistics().GetReprojectionReuse() > 0.5,
       "TemporalReprojection (default on) carries the history into the new view (%.0f frames, "
-      "%.2f of the volume's pixels)" % (history.max(), mapper().GetReprojectionReuse()))
+      "%.2f of the volume's pixels)" % (history.max(), mapper().GetStatistics().GetReprojectionReuse()))
 display.MaximumHistory = 1
 camera.Azimuth(-1)
 Render(view)
@@ -347,7 +347,7 @@ print("DenoiserNumberOfLevels=1: mean |diff| = %.2f/255" % mean)
 check(mean > 0.2 and not traced, "DenoiserNumberOfLevels changes the denoised image only")
 display.DenoiserNumberOfLevels = 0
 
-check(mapper().GetExpertOptions().GetEdgeSamples() == 3 and mapper().GetLastEdgeFraction() > 0,
+check(mapper().GetExpertOptions().GetEdgeSamples() == 3 and mapper().GetStatistics().GetLastEdgeFraction() > 0,
       "a denoised frame gets EdgeSamples (default 3) on the volume's edges")
 display.EdgeSamples = 1
 check(mapper().GetExpertOptions().GetEdgeSamples() == 1, "EdgeSamples reaches the mapper")

@@ -171,8 +171,8 @@ for i, frame_path in enumerate(frames):
 # --- 3. interactive renders stay at one frame ---------------------------------------------------
 view.StillRender()
 view.SMProxy.InteractiveRender()
-check(mapper().GetLastRenderFrames() == 1, "an interactive render traces one frame (%d)"
-      % mapper().GetLastRenderFrames())
+check(mapper().GetStatistics().GetLastRenderFrames() == 1, "an interactive render traces one frame (%d)"
+      % mapper().GetStatistics().GetLastRenderFrames())
 
 check(not vtk_messages, "no VTK error or warning: %s" % vtk_messages)
 if check.failures:

@@ -116,8 +116,8 @@ def test_projection_matches_vtk(mode: int, reference: Callable[[], Any]) -> None
         f"median {np.median(diff)}, within 8/255: {(diff <= 8).mean():.3f}, "
         f"max {diff.max()}")
     assert not messages
-    assert ours.GetLastRenderFrames() == 8 and ours.GetStillConverged(), (
-        ours.GetLastRenderFrames(), ours.GetStillConverged())
+    assert ours.GetStatistics().GetLastRenderFrames() == 8 and ours.GetStillConverged(), (
+        ours.GetStatistics().GetLastRenderFrames(), ours.GetStillConverged())
 
 
 def test_split_volume_projection_warns_once_and_composites() -> None:

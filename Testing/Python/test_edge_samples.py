@@ -47,11 +47,11 @@ def test_only_edge_pixels_change() -> None:
     bit-identical in every pass; the mask's pixels hold the mean of four samples (Alpha in
     quarters), some of them differ, and GetLastEdgeFraction is the mask's share."""
     plain, plain_mapper = render(4, compute=False)
-    assert plain_mapper.GetLastEdgeFraction() == 0.0
+    assert plain_mapper.GetStatistics().GetLastEdgeFraction() == 0.0
     edged, mapper = render(4, compute=True)
     mask = edge_mask(grid(plain["Coverage"])[..., 0])
     assert 0.02 < mask.mean() < 0.5, mask.mean()
-    assert mapper.GetLastEdgeFraction() == pytest.approx(mask.mean(), abs=1e-12)
+    assert mapper.GetStatistics().GetLastEdgeFraction() == pytest.approx(mask.mean(), abs=1e-12)
     for name in TRACED:
         a, b = grid(plain[name]), grid(edged[name])
         assert np.array_equal(a[~mask], b[~mask]), name
@@ -117,7 +117,7 @@ def test_frames_are_deterministic_and_thread_independent() -> None:
         assert np.array_equal(a[name], b[name]), name
     off, mapper = render(1, compute=True)
     plain, _ = render(4, compute=False)
-    assert mapper.GetLastEdgeFraction() == 0.0
+    assert mapper.GetStatistics().GetLastEdgeFraction() == 0.0
     for name in TRACED:
         assert np.array_equal(off[name], plain[name]), name
 
@@ -127,7 +127,7 @@ def test_denoised_frame_gets_them_by_default() -> None:
     passes are those of ComputeEdgeSamples (and FootprintRays, which it traces too) without
     denoising."""
     denoised, mapper = render(4, compute=False, denoise=True)
-    assert mapper.GetLastEdgeFraction() > 0.02
+    assert mapper.GetStatistics().GetLastEdgeFraction() > 0.02
     asked, _ = render(4, compute=True, footprint=True)
     for name in TRACED:
         assert np.array_equal(denoised[name], asked[name]), name
@@ -148,7 +148,7 @@ def test_a_camera_move_drops_the_edges_history() -> None:
             window.Render()
         keep[3].GetActiveCamera().Azimuth(1.0)
         window.Render()
-        assert mapper.GetReprojectionReuse() > 0.3
+        assert mapper.GetStatistics().GetReprojectionReuse() > 0.3
         return {name: get_pass(mapper, name, SIZE) for name in ("Coverage", "HistoryLength")}
 
     plain, edged = moved(1), moved(2)
@@ -189,7 +189,7 @@ def test_edge_samples_in_the_settings() -> None:
     mapper = ptv.vtkPathTracedVolumeMapper()
     options = mapper.GetExpertOptions()
     assert options.GetEdgeSamples() == 3 and not options.GetComputeEdgeSamples()
-    assert mapper.GetLastEdgeFraction() == 0.0
+    assert mapper.GetStatistics().GetLastEdgeFraction() == 0.0
     mapper.GetExpertOptions().SetEdgeSamples(0)
     assert mapper.GetExpertOptions().GetEdgeSamples() == 1
     mapper.GetExpertOptions().SetEdgeSamples(1000)

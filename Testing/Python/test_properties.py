@@ -96,3 +96,20 @@ def test_a_wrong_default_would_be_found(name: str) -> None:
     if not hasattr(target, "Set" + name):
         target = target.GetExpertOptions()
     assert check_defaults(target, documented)
+
+
+def test_telemetry_is_a_few_getters_and_one_statistics_object() -> None:
+    """Read-only state on the mapper is what a user acts on (issue #61); what a render cost is in
+    vtkPTVRenderStatistics, which every mapper owns."""
+    mapper = ptv.vtkPathTracedVolumeMapper()
+    inherited = set(dir(vtkVolumeMapper))
+    read_only = {m[3:] for m in dir(mapper) if m.startswith("Get") and m not in inherited
+                 and not hasattr(mapper, "Set" + m[3:])}
+    machine = {"CpuKernelTarget", "CudaAvailable", "CudaStatus", "NumberOfPasses", "PassName",
+               "Pass", "Passes", "ExpertOptions", "Statistics", "Controller"}
+    assert read_only - machine == {"AccumulatedFrames", "LastRenderTraced", "EstimatedQuality",
+                                   "StillConverged", "DenoiserStatus", "ActiveBackend"}
+    stats = mapper.GetStatistics()
+    assert isinstance(stats, ptv.vtkPTVRenderStatistics) and stats is mapper.GetStatistics()
+    assert (stats.GetLastRenderFrames(), stats.GetLastTraceTime(), stats.GetLastEdgeFraction()) \
+        == (0, 0.0, 0.0)

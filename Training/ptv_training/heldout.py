@@ -129,7 +129,7 @@ def edge_frame(scene: Any, meta: Dict[str, Any], stored: Dict[str, np.ndarray],
     changed = np.zeros(passes["Radiance"].shape[:2], bool)
     for name, image in passes.items():
         changed |= np.any((image != stored[name]).reshape(changed.shape + (-1,)), axis=-1)
-    if changed.mean() > mapper.GetLastEdgeFraction() + 1e-9:
+    if changed.mean() > mapper.GetStatistics().GetLastEdgeFraction() + 1e-9:
         raise RuntimeError(f"{meta['dataset']} {meta['heldout']}: the frame differs from the "
                            "stored 1-spp passes outside its edge pixels (render it again)")
     return passes

@@ -126,7 +126,7 @@ def markdown(a: argparse.Namespace, stage_rows: Sequence[Mapping[str, Any]],
              thread_rows: Sequence[Mapping[str, Any]]) -> List[str]:
     md = ["## 6. Where the time goes", "",
           f"Median of {a.repeats} after a warm-up, milliseconds. Trace = the mapper's "
-          "`GetLastTraceTime()` of a fresh 1-spp frame; features, GuideNet, splat "
+          "`GetStatistics().GetLastTraceTime()` of a fresh 1-spp frame; features, GuideNet, splat "
           "(incl. demodulation and clamp) and slice = `vtkPTVDenoiser::GetLast*Time()`; "
           "denoise = the whole `Execute()` call.", ""]
     if stage_rows:
