@@ -44,7 +44,7 @@ struct CudaTracer::Internals
   DeviceBuffer Colors, ColorScalars, ColorTable; // dependent colour data (VolumeGrid::Colors)
   cudaEvent_t KernelStart = nullptr, KernelEnd = nullptr; // created with the first trace
   unsigned long long VolumeVersion = ~0ull;
-  const float* VolumeHost = nullptr;
+  const void* VolumeHost = nullptr;
 };
 
 //------------------------------------------------------------------------------
@@ -99,7 +99,10 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   // The voxels and any colour data change together (FrameInputs' volume version).
   if (volumeVersion != in.VolumeVersion || params.Volume.Scalars != in.VolumeHost)
   {
-    if (!upload(in.Scalars, params.Volume.Scalars, voxels * sizeof(float), "volume upload") ||
+    // The voxels in their own type (VolumeGrid::Type): an 8- or 16-bit volume uploads 1 or 2
+    // bytes a voxel.
+    const std::size_t voxelBytes = static_cast<std::size_t>(ScalarTypeSize(params.Volume.Type));
+    if (!upload(in.Scalars, params.Volume.Scalars, voxels * voxelBytes, "volume upload") ||
       (params.Volume.Colors &&
         !upload(in.Colors, params.Volume.Colors, 3 * voxels * sizeof(float), "colour upload")) ||
       (params.Volume.ColorScalars &&
@@ -112,7 +115,7 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
     in.VolumeVersion = volumeVersion;
     in.VolumeHost = params.Volume.Scalars;
   }
-  d.Volume.Scalars = static_cast<const float*>(in.Scalars.Ptr);
+  d.Volume.Scalars = in.Scalars.Ptr;
   d.Volume.Colors = params.Volume.Colors ? static_cast<const float*>(in.Colors.Ptr) : nullptr;
   if (params.Volume.ColorScalars)
   {

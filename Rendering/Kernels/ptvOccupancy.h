@@ -47,6 +47,8 @@
 #include "ptvTransferTable.h"
 #include "ptvVolumeGrid.h"
 
+#include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace ptv
@@ -140,6 +142,57 @@ PTV_HD PTV_INLINE float RegionExitT(
 }
 
 /**
+ * HOST ONLY. The smallest and largest voxel value of the index box [lo, hi] (inclusive) into
+ * @a vmin / @a vmax (which come in as kTMax / -kTMax), and whether it holds a NaN: rows of
+ * integers are reduced in their own type (vectorizable, no NaN), floats with comparisons that
+ * skip NaN as fminf / fmaxf do.
+ */
+template <typename T>
+inline void FootprintRange(const VolumeGrid& g, const T* data, const int lo[3], const int hi[3],
+  float& vmin, float& vmax, bool& hasNaN)
+{
+  const int64_t row = g.Dims[0];
+  const int64_t slice = row * g.Dims[1];
+  const int count = hi[0] - lo[0] + 1;
+  if constexpr (std::is_integral<T>::value)
+  {
+    T tmin = std::numeric_limits<T>::max();
+    T tmax = std::numeric_limits<T>::lowest();
+    for (int k = lo[2]; k <= hi[2]; ++k)
+    {
+      for (int j = lo[1]; j <= hi[1]; ++j)
+      {
+        const T* v = data + lo[0] + row * j + slice * k;
+        for (int i = 0; i < count; ++i)
+        {
+          tmin = v[i] < tmin ? v[i] : tmin;
+          tmax = v[i] > tmax ? v[i] : tmax;
+        }
+      }
+    }
+    vmin = static_cast<float>(tmin);
+    vmax = static_cast<float>(tmax);
+  }
+  else
+  {
+    for (int k = lo[2]; k <= hi[2]; ++k)
+    {
+      for (int j = lo[1]; j <= hi[1]; ++j)
+      {
+        const T* v = data + lo[0] + row * j + slice * k;
+        for (int i = 0; i < count; ++i)
+        {
+          const float x = static_cast<float>(v[i]);
+          hasNaN = hasNaN || x != x;
+          vmin = x < vmin ? x : vmin;
+          vmax = x > vmax ? x : vmax;
+        }
+      }
+    }
+  }
+}
+
+/**
  * HOST ONLY. For the bricks with z coordinate in [bzBegin, bzEnd): the range of values their
  * trilinear samples can take (see the file comment: footprint plus a one-voxel border, widened
  * by a few ulps), ranges[2 b] = lo and ranges[2 b + 1] = hi. A footprint holding a NaN voxel gets
@@ -147,8 +200,9 @@ PTV_HD PTV_INLINE float RegionExitT(
  * this is only conservative). This depends on the voxels alone: a transfer-function change
  * reuses it (BuildOccupancy). Slabs of bz can be filled in parallel.
  */
-inline void BuildBrickRanges(
-  const VolumeGrid& g, int brickSize, int bzBegin, int bzEnd, float* ranges)
+template <typename T>
+inline void BuildBrickRangesOf(
+  const VolumeGrid& g, const T* data, int brickSize, int bzBegin, int bzEnd, float* ranges)
 {
   int bricks[3];
   ComputeBrickCounts(g.Dims, brickSize, bricks);
@@ -168,25 +222,42 @@ inline void BuildBrickRanges(
         float vmin = kTMax;
         float vmax = -kTMax;
         bool hasNaN = false;
-        for (int k = lo[2]; k <= hi[2]; ++k)
-        {
-          for (int j = lo[1]; j <= hi[1]; ++j)
-          {
-            for (int i = lo[0]; i <= hi[0]; ++i)
-            {
-              const float v = VoxelValue(g, i, j, k);
-              hasNaN = hasNaN || v != v;
-              vmin = fminf(vmin, v);
-              vmax = fmaxf(vmax, v);
-            }
-          }
-        }
+        FootprintRange(g, data, lo, hi, vmin, vmax, hasNaN);
         const float eps = 1e-6f * (fabsf(vmin) + fabsf(vmax)) + 1e-30f;
         const int64_t index = bx + static_cast<int64_t>(bricks[0]) * (by + bricks[1] * bz);
         ranges[2 * index] = hasNaN ? -kTMax : vmin - eps;
         ranges[2 * index + 1] = vmax + eps;
       }
     }
+  }
+}
+
+/// BuildBrickRangesOf for the voxels' own type (VolumeGrid::Type).
+inline void BuildBrickRanges(
+  const VolumeGrid& g, int brickSize, int bzBegin, int bzEnd, float* ranges)
+{
+  switch (g.Type)
+  {
+    case kScalarUInt8:
+      BuildBrickRangesOf(g, static_cast<const uint8_t*>(g.Scalars), brickSize, bzBegin, bzEnd,
+        ranges);
+      break;
+    case kScalarInt8:
+      BuildBrickRangesOf(g, static_cast<const int8_t*>(g.Scalars), brickSize, bzBegin, bzEnd,
+        ranges);
+      break;
+    case kScalarUInt16:
+      BuildBrickRangesOf(g, static_cast<const uint16_t*>(g.Scalars), brickSize, bzBegin, bzEnd,
+        ranges);
+      break;
+    case kScalarInt16:
+      BuildBrickRangesOf(g, static_cast<const int16_t*>(g.Scalars), brickSize, bzBegin, bzEnd,
+        ranges);
+      break;
+    default:
+      BuildBrickRangesOf(g, static_cast<const float*>(g.Scalars), brickSize, bzBegin, bzEnd,
+        ranges);
+      break;
   }
 }
 

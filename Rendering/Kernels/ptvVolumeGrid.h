@@ -1,11 +1,14 @@
 /**
  * @file ptvVolumeGrid.h
- * @brief A scalar volume as a flat float array plus its world<->index mapping; sampling and
+ * @brief A scalar volume as a flat array plus its world<->index mapping; sampling and
  *        ray/box intersection in index space.
  *
  * Index space: voxel (i, j, k) sits at the point (i, j, k); the volume occupies the box
  * [0, Dims-1] on each axis and voxel values are stored x fastest:
  * Scalars[i + Dims[0] * (j + Dims[1] * k)] (64-bit offsets, so > 2^31 voxels are fine).
+ * The voxels are floats or, read in place from the input array, 8- or 16-bit integers
+ * (ScalarType): every read converts one voxel to float, exactly, before any arithmetic, so an
+ * integer volume samples bit for bit as its float copy would.
  *
  * WorldToIndex is a row-major 3x4 affine matrix [M | t]: index = M * world + t.
  * NormalToWorld is (A^{-1})^T with A = M^{-1} the index-to-world linear part, i.e. simply M^T:
@@ -23,9 +26,27 @@
 
 namespace ptv
 {
+/// How VolumeGrid::Scalars are stored.
+enum ScalarType : int
+{
+  kScalarFloat = 0,
+  kScalarUInt8 = 1,
+  kScalarInt8 = 2,
+  kScalarUInt16 = 3,
+  kScalarInt16 = 4
+};
+
+/// Bytes per voxel of a ScalarType.
+PTV_HD PTV_INLINE int ScalarTypeSize(int type)
+{
+  return type == kScalarUInt8 || type == kScalarInt8 ? 1
+    : (type == kScalarUInt16 || type == kScalarInt16 ? 2 : 4);
+}
+
 struct VolumeGrid
 {
-  const float* Scalars;  ///< Dims[0]*Dims[1]*Dims[2] values, x fastest
+  const void* Scalars;   ///< Dims[0]*Dims[1]*Dims[2] values of type Type, x fastest
+  int Type = kScalarFloat; ///< ScalarType of Scalars
   int Dims[3];           ///< voxel counts, each >= 1
   float WorldToIndex[12]; ///< row-major 3x4 affine: index = M world + t
   float NormalToWorld[9]; ///< row-major 3x3 (A^{-1})^T = M^T: index gradient -> world gradient
@@ -70,11 +91,31 @@ PTV_HD PTV_INLINE void ComputeNormalToWorld(VolumeGrid& g)
   }
 }
 
+/// fn(data) with Scalars as a pointer to their type: the one place that reads Type.
+template <typename Fn>
+PTV_HD PTV_INLINE float WithScalars(const VolumeGrid& g, const Fn& fn)
+{
+  switch (g.Type)
+  {
+    case kScalarUInt8:
+      return fn(static_cast<const uint8_t*>(g.Scalars));
+    case kScalarInt8:
+      return fn(static_cast<const int8_t*>(g.Scalars));
+    case kScalarUInt16:
+      return fn(static_cast<const uint16_t*>(g.Scalars));
+    case kScalarInt16:
+      return fn(static_cast<const int16_t*>(g.Scalars));
+    default:
+      return fn(static_cast<const float*>(g.Scalars));
+  }
+}
+
 PTV_HD PTV_INLINE float VoxelValue(const VolumeGrid& g, int i, int j, int k)
 {
-  return g.Scalars[static_cast<int64_t>(i) +
+  const int64_t offset = static_cast<int64_t>(i) +
     static_cast<int64_t>(g.Dims[0]) * (static_cast<int64_t>(j) +
-                                         static_cast<int64_t>(g.Dims[1]) * k)];
+                                         static_cast<int64_t>(g.Dims[1]) * k);
+  return WithScalars(g, [&](const auto* data) { return static_cast<float>(data[offset]); });
 }
 
 /// Lower cell corner i0, upper corner i1 and weight f for coordinate x on an axis of n voxels
@@ -91,53 +132,121 @@ PTV_HD PTV_INLINE void CellCoordinate(float x, int n, int& i0, int& i1, float& f
   f = xc - static_cast<float>(i0);
 }
 
-/// Trilinear interpolation of channel data[stride * voxel] at an index-space point,
-/// clamp-to-edge outside [0, Dims-1].
-PTV_HD PTV_INLINE float SampleTrilinearArray(
-  const VolumeGrid& g, const float* data, int stride, Vec3 p)
+/// The cell of a trilinear sample: the lower corner's offset, the offsets to the upper corner
+/// along x, y and z (0 on a one-voxel axis) and the weights.
+struct TrilinearCell
+{
+  int64_t Base, Ox, Oy, Oz;
+  float Fx, Fy, Fz;
+};
+
+/// The cell around an index-space point for channel data[stride * voxel] (clamp-to-edge).
+PTV_HD PTV_INLINE TrilinearCell FindCell(const VolumeGrid& g, int stride, Vec3 p)
 {
   int i0, i1, j0, j1, k0, k1;
-  float fx, fy, fz;
-  CellCoordinate(p.x, g.Dims[0], i0, i1, fx);
-  CellCoordinate(p.y, g.Dims[1], j0, j1, fy);
-  CellCoordinate(p.z, g.Dims[2], k0, k1, fz);
-  // The eight corners as offsets from the lower one (the same values VoxelValue() reads).
+  TrilinearCell c;
+  CellCoordinate(p.x, g.Dims[0], i0, i1, c.Fx);
+  CellCoordinate(p.y, g.Dims[1], j0, j1, c.Fy);
+  CellCoordinate(p.z, g.Dims[2], k0, k1, c.Fz);
   const int64_t row = g.Dims[0];
   const int64_t slice = row * g.Dims[1];
-  const float* v = data + stride * (i0 + row * j0 + slice * k0);
-  const int64_t ox = stride * (i1 - i0);
-  const int64_t oy = stride * row * (j1 - j0);
-  const int64_t oz = stride * slice * (k1 - k0);
-  const float c00 = Lerp(v[0], v[ox], fx);
-  const float c10 = Lerp(v[oy], v[oy + ox], fx);
-  const float c01 = Lerp(v[oz], v[oz + ox], fx);
-  const float c11 = Lerp(v[oy + oz], v[oy + oz + ox], fx);
-  return Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
+  c.Base = stride * (i0 + row * j0 + slice * k0);
+  c.Ox = stride * (i1 - i0);
+  c.Oy = stride * row * (j1 - j0);
+  c.Oz = stride * slice * (k1 - k0);
+  return c;
+}
+
+/// A cell's eight voxels as float: x fastest, then y, then z.
+struct CellCorners
+{
+  float V[8];
+};
+
+template <typename T>
+PTV_HD PTV_INLINE CellCorners LoadCorners(const T* data, const TrilinearCell& c)
+{
+  const T* v = data + c.Base;
+  const int64_t o[8] = { 0, c.Ox, c.Oy, c.Oy + c.Ox, c.Oz, c.Oz + c.Ox, c.Oy + c.Oz,
+    c.Oy + c.Oz + c.Ox };
+  CellCorners out;
+  for (int n = 0; n < 8; ++n)
+  {
+    out.V[n] = static_cast<float>(v[o[n]]);
+  }
+  return out;
+}
+
+/// The trilinear blend of a cell's corners (one expression for every voxel type, so an integer
+/// volume rounds as its float copy).
+PTV_HD PTV_INLINE float BlendCorners(const CellCorners& v, const TrilinearCell& c)
+{
+  const float c00 = Lerp(v.V[0], v.V[1], c.Fx);
+  const float c10 = Lerp(v.V[2], v.V[3], c.Fx);
+  const float c01 = Lerp(v.V[4], v.V[5], c.Fx);
+  const float c11 = Lerp(v.V[6], v.V[7], c.Fx);
+  return Lerp(Lerp(c00, c10, c.Fy), Lerp(c01, c11, c.Fy), c.Fz);
+}
+
+/// Trilinear interpolation of channel data[stride * voxel] at an index-space point,
+/// clamp-to-edge outside [0, Dims-1].
+template <typename T>
+PTV_HD PTV_INLINE float SampleTrilinearArray(const VolumeGrid& g, const T* data, int stride, Vec3 p)
+{
+  const TrilinearCell c = FindCell(g, stride, p);
+  return BlendCorners(LoadCorners(data, c), c);
+}
+
+/// The corners of an 8- or 16-bit volume's cell, read out of line: the float path, inlined
+/// into every march, stays as small as it was; the blend stays inline, where it rounds alike.
+PTV_HD PTV_INLINE PTV_NOINLINE CellCorners LoadIntegerCorners(
+  const VolumeGrid& g, const TrilinearCell& c)
+{
+  CellCorners out{};
+  WithScalars(g,
+    [&](const auto* data)
+    {
+      out = LoadCorners(data, c);
+      return 0.f;
+    });
+  return out;
 }
 
 /// Trilinear interpolation of the scalars at an index-space point (clamp-to-edge).
 PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
 {
-  return SampleTrilinearArray(g, g.Scalars, 1, p);
+  const TrilinearCell c = FindCell(g, 1, p);
+  if (g.Type == kScalarFloat)
+  {
+    return BlendCorners(LoadCorners(static_cast<const float*>(g.Scalars), c), c);
+  }
+  return BlendCorners(LoadIntegerCorners(g, c), c);
 }
 
 /// Channel data[stride * voxel] of the voxel nearest to an index-space point (clamped).
-PTV_HD PTV_INLINE float SampleNearestArray(
-  const VolumeGrid& g, const float* data, int stride, Vec3 p)
+template <typename T>
+PTV_HD PTV_INLINE float SampleNearestArray(const VolumeGrid& g, const T* data, int stride, Vec3 p)
 {
   const int i = static_cast<int>(Clamp(p.x + 0.5f, 0.f, static_cast<float>(g.Dims[0] - 1)));
   const int j = static_cast<int>(Clamp(p.y + 0.5f, 0.f, static_cast<float>(g.Dims[1] - 1)));
   const int k = static_cast<int>(Clamp(p.z + 0.5f, 0.f, static_cast<float>(g.Dims[2] - 1)));
-  return data[stride *
+  return static_cast<float>(data[stride *
     (static_cast<int64_t>(i) +
       static_cast<int64_t>(g.Dims[0]) *
-        (static_cast<int64_t>(j) + static_cast<int64_t>(g.Dims[1]) * k))];
+        (static_cast<int64_t>(j) + static_cast<int64_t>(g.Dims[1]) * k))]);
+}
+
+/// SampleNearest of 8- and 16-bit voxels, out of line (see LoadIntegerCorners).
+PTV_HD PTV_INLINE PTV_NOINLINE float SampleNearestInteger(const VolumeGrid& g, Vec3 p)
+{
+  return WithScalars(g, [&](const auto* data) { return SampleNearestArray(g, data, 1, p); });
 }
 
 /// Value of the voxel nearest to an index-space point (clamped to the grid).
 PTV_HD PTV_INLINE float SampleNearest(const VolumeGrid& g, Vec3 p)
 {
-  return SampleNearestArray(g, g.Scalars, 1, p);
+  return g.Type == kScalarFloat ? SampleNearestArray(g, static_cast<const float*>(g.Scalars), 1, p)
+                                : SampleNearestInteger(g, p);
 }
 
 /**

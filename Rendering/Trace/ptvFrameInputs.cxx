@@ -120,7 +120,8 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping,
   if (skipping)
   {
     VolumeGrid grid{};
-    grid.Scalars = this->Scalars.data();
+    grid.Scalars = this->ScalarData;
+    grid.Type = this->ScalarType;
     std::copy(this->Dims, this->Dims + 3, grid.Dims);
     ComputeBrickCounts(this->Dims, kBrickSize, this->BrickCounts);
     const std::size_t bricks =
@@ -158,7 +159,8 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
 
   // Volume: voxels and index <-> world.
   VolumeGrid& g = p.Volume;
-  g.Scalars = this->Scalars.data();
+  g.Scalars = this->ScalarData;
+  g.Type = this->ScalarType;
   std::copy(this->Dims, this->Dims + 3, g.Dims);
   if (!this->ColorScalars.empty() && !this->ColorRGBA.empty())
   {

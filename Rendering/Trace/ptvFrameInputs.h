@@ -17,6 +17,7 @@
 #include "ptvFrameSignature.h"
 #include "ptvPieces.h"
 
+#include "vtkSmartPointer.h" // for the array read in place
 #include "vtkType.h"
 
 #include <cstdint>
@@ -72,6 +73,11 @@ public:
   /// UpdateVolume.
   void GetLocalRanges(double ranges[4]) const;
 
+  /// The voxels the kernels read (VolumeGrid::Scalars) and their ScalarType, valid after
+  /// UpdateVolume: the input array's own memory where it is read in place, else a float copy.
+  const void* GetScalarData() const { return this->ScalarData; }
+  int GetScalarType() const { return this->ScalarType; }
+
   /// Changes whenever the float copy of the voxels is rebuilt (device copies key on it).
   unsigned long long GetVolumeVersion() const { return this->VolumeVersion; }
 
@@ -98,7 +104,12 @@ private:
   vtkMTimeType VolumeTime = 0;
   unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
   vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
-  std::vector<float> Scalars; ///< (v - Shift) * Scale: see StoredAs in the .cxx
+  /// The voxels the kernels read (VolumeGrid::Scalars, of ScalarType): the input array itself
+  /// where it can be read in place (InPlace holds it; ptvScalarChannel.h), else Scalars.
+  const void* ScalarData = nullptr;
+  int ScalarType = kScalarFloat;
+  vtkSmartPointer<vtkDataArray> InPlace;
+  std::vector<float> Scalars; ///< the float copy, (v - Shift) * Scale: see StoredAs in the .cxx
   double Shift = 0.0, Scale = 1.0;
   int Dims[3] = { 0, 0, 0 };
   double Range[2] = { 0, 1 };      ///< the tables' range: LocalRange, or the whole volume's

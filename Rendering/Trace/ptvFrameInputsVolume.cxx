@@ -78,20 +78,38 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   }
   const vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
   if (scalars == this->VolumeArray && t <= this->VolumeTime && dependent == this->Dependent &&
-    !this->Scalars.empty())
+    this->ScalarData)
   {
     return true;
   }
-  // The opacity channel (the last component) drives opacity, gradients and the occupancy.
-  this->Scalars.resize(static_cast<std::size_t>(n));
+  // The opacity channel (the last component) drives opacity, gradients and the occupancy. An
+  // 8- or 16-bit (or plain float) channel is read in place; others are copied as float.
+  this->ScalarData = nullptr;
+  this->InPlace = nullptr;
+  std::vector<float>().swap(this->Scalars);
   double range[2];
-  CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite, this->Shift,
-    this->Scale);
+  ChannelRangeOf(scalars, comps - 1, range, nonFinite);
   if (nonFinite == n)
   {
     error = "every voxel is NaN or infinite: nothing to render";
-    this->Scalars.clear();
     return false;
+  }
+  const int inPlace = comps == 1 ? InPlaceScalarType(scalars, range, nonFinite) : -1;
+  if (inPlace >= 0)
+  {
+    this->InPlace = scalars;
+    this->ScalarData = scalars->GetVoidPointer(0);
+    this->ScalarType = inPlace;
+    this->Shift = 0.0;
+    this->Scale = 1.0;
+  }
+  else
+  {
+    this->Scalars.resize(static_cast<std::size_t>(n));
+    CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite, this->Shift,
+      this->Scale);
+    this->ScalarData = this->Scalars.data();
+    this->ScalarType = kScalarFloat;
   }
   WidenRange(range);
   // Dependent colour: the colour channel (2 components, mapped by the colour function over its

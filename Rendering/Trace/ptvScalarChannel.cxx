@@ -1,8 +1,11 @@
 #include "ptvScalarChannel.h"
 
+#include "Kernels/ptvVolumeGrid.h"
+
 #include "vtkArrayDispatch.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
 #include <algorithm>
@@ -39,29 +42,47 @@ struct ChannelToFloat
   }
 };
 
-// A channel's finite range in the array's own precision and its count of non-finite values.
+// A channel's finite range in the array's own precision and its count of non-finite values
+// (in parallel: a 2 GiB volume is scanned before its first frame).
 struct ChannelRange
 {
   template <typename ArrayT>
   void operator()(ArrayT* array, int component, double range[2], vtkIdType& nonFinite)
   {
-    const auto tuples = vtk::DataArrayTupleRange(array);
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    vtkIdType bad = 0;
-    for (const auto tuple : tuples)
+    struct Partial
     {
-      const double v = static_cast<double>(tuple[component]);
-      if (!std::isfinite(v))
+      double Lo = std::numeric_limits<double>::infinity();
+      double Hi = -std::numeric_limits<double>::infinity();
+      vtkIdType Bad = 0;
+    };
+    const auto tuples = vtk::DataArrayTupleRange(array);
+    vtkSMPThreadLocal<Partial> partials;
+    vtkSMPTools::For(0, static_cast<vtkIdType>(tuples.size()),
+      [&](vtkIdType b, vtkIdType e)
       {
-        ++bad;
-        continue;
-      }
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+        Partial& part = partials.Local();
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          const double v = static_cast<double>(tuples[i][component]);
+          if (!std::isfinite(v))
+          {
+            ++part.Bad;
+            continue;
+          }
+          part.Lo = std::min(part.Lo, v);
+          part.Hi = std::max(part.Hi, v);
+        }
+      });
+    Partial all;
+    for (const Partial& part : partials)
+    {
+      all.Lo = std::min(all.Lo, part.Lo);
+      all.Hi = std::max(all.Hi, part.Hi);
+      all.Bad += part.Bad;
     }
-    range[0] = lo;
-    range[1] = hi;
-    nonFinite = bad;
+    range[0] = all.Lo;
+    range[1] = all.Hi;
+    nonFinite = all.Bad;
   }
 };
 
@@ -92,14 +113,52 @@ void StoredAs(const double range[2], double& shift, double& scale)
 }
 
 //------------------------------------------------------------------------------
-void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
-  double range[2], vtkIdType& nonFinite, double& shift, double& scale)
+void ChannelRangeOf(vtkDataArray* array, int component, double range[2], vtkIdType& nonFinite)
 {
   ChannelRange ranger;
   if (!vtkArrayDispatch::Dispatch::Execute(array, ranger, component, range, nonFinite))
   {
     ranger(array, component, range, nonFinite); // generic vtkDataArray path
   }
+}
+
+//------------------------------------------------------------------------------
+int InPlaceScalarType(
+  vtkDataArray* array, const double range[2], vtkIdType nonFinite, vtkIdType integerVoxels)
+{
+  if (!array || array->GetNumberOfComponents() != 1 || !array->HasStandardMemoryLayout())
+  {
+    return -1;
+  }
+  const bool big = array->GetNumberOfTuples() >= integerVoxels;
+  switch (array->GetDataType())
+  {
+    case VTK_UNSIGNED_CHAR:
+      return big ? kScalarUInt8 : -1;
+    case VTK_SIGNED_CHAR:
+      return big ? kScalarInt8 : -1;
+    case VTK_UNSIGNED_SHORT:
+      return big ? kScalarUInt16 : -1;
+    case VTK_SHORT:
+      return big ? kScalarInt16 : -1;
+    case VTK_FLOAT:
+    {
+      // In place only where the copy would hold the same bits: no NaN / infinity to turn into
+      // "no data", no shift or scale (StoredAs).
+      double shift, scale;
+      StoredAs(range, shift, scale);
+      return nonFinite == 0 && shift == 0.0 && scale == 1.0 ? kScalarFloat : -1;
+    }
+    default:
+      return -1;
+  }
+}
+
+//------------------------------------------------------------------------------
+void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
+  double range[2], vtkIdType& nonFinite, double& shift, double& scale)
+{
+  ChannelRangeOf(array, component, range, nonFinite);
   StoredAs(range, shift, scale);
   if (factor != 1.0f)
   {

@@ -6,7 +6,9 @@
  * The range is taken in the array's own precision. A channel whose magnitude exceeds 1000x its
  * span (or 1e30), or whose span is below 1e-30 or above 1e30, is stored as (v - min), times
  * 1 / span for the last two: an offset such as 1e10 + [0, 100] would otherwise round to a few
- * values or overflow. Data float holds as it is is stored bit for bit.
+ * values or overflow. Data float holds as it is is stored bit for bit; 8- and 16-bit integer
+ * data and such float data are read in place instead when they are one contiguous component
+ * (InPlaceScalarType).
  */
 #ifndef ptvScalarChannel_h
 #define ptvScalarChannel_h
@@ -25,6 +27,22 @@ namespace ptv
  */
 void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
   double range[2], vtkIdType& nonFinite, double& shift, double& scale);
+
+/// Component @a component's finite range in @a range and its count of non-finite values.
+void ChannelRangeOf(vtkDataArray* array, int component, double range[2], vtkIdType& nonFinite);
+
+/// Integer volumes of at least this many voxels (a 256 MiB float copy) are read in place.
+constexpr vtkIdType kInPlaceIntegerVoxels = vtkIdType(1) << 26;
+
+/**
+ * The kernels' ScalarType (Kernels/ptvVolumeGrid.h) that reads @a array's memory in place: a
+ * one-component array in contiguous memory of floats that are all finite and stored as they
+ * are (@a range, @a nonFinite from ChannelRangeOf), or of 8- or 16-bit integers with at least
+ * @a integerVoxels values (smaller ones are copied: the kernels sample float voxels faster);
+ * else -1 (the channel is copied with CopyChannel).
+ */
+int InPlaceScalarType(vtkDataArray* array, const double range[2], vtkIdType nonFinite,
+  vtkIdType integerVoxels = kInPlaceIntegerVoxels);
 }
 
 #endif

@@ -134,6 +134,7 @@ void PointParams(TraceCapture& c)
 {
   TraceParams& p = c.Params;
   p.Volume.Scalars = DataOrNull(c.Scalars);
+  p.Volume.Type = kScalarFloat; // captures store the voxels as float
   p.Volume.Colors = DataOrNull(c.Colors);
   p.Volume.ColorScalars = DataOrNull(c.ColorScalars);
   p.Transfer.RGBA = DataOrNull(c.TransferRGBA);

@@ -122,7 +122,13 @@ void CopyInputs(const TraceParams& p, TraceCapture& c)
   const std::size_t bricks =
     static_cast<std::size_t>(p.Occupancy.Bricks[0]) * p.Occupancy.Bricks[1] * p.Occupancy.Bricks[2];
   c.Params = p;
-  c.Scalars = Copy(p.Volume.Scalars, voxels);
+  // The voxels as float whatever their type (a capture stores floats; PointParams says so).
+  c.Scalars.resize(p.Volume.Scalars ? voxels : 0);
+  for (std::size_t v = 0; v < c.Scalars.size(); ++v)
+  {
+    c.Scalars[v] = WithScalars(p.Volume,
+      [&](const auto* data) { return static_cast<float>(data[v]); });
+  }
   c.Colors = Copy(p.Volume.Colors, 3 * voxels);
   c.ColorScalars = Copy(p.Volume.ColorScalars, voxels);
   c.TransferRGBA = Copy(p.Transfer.RGBA, 4 * static_cast<std::size_t>(p.Transfer.Size));
