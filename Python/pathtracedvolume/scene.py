@@ -179,7 +179,8 @@ class Scene:
             start = time.perf_counter()
             self.window.Render()
             wall = 1000.0 * (time.perf_counter() - start)
-            times.append(float(self.mapper.GetStatistics().GetLastTraceTime()) if self.path_traced else wall)
+            stats = self.mapper.GetStatistics() if self.path_traced else None
+            times.append(float(stats.GetLastTraceTime()) if stats is not None else wall)
             if on_frame is not None:
                 on_frame(k)
         return times
