@@ -149,20 +149,28 @@ void FrameInputsChooseStorage()
     "8- and 16-bit arrays of at least the given voxels are read in place");
 }
 
-/// Radiance of one frame of the 1024 x 256 x 256 ramp volume given as @a array.
-std::vector<float> RenderBig(vtkDataArray* array)
+/// @a s showing the nx x ny x nz volume @a array with a ramp from 0 (blue, transparent up to
+/// 1500) to 4000 (yellow) of opacity @a peak at @a top, not denoised.
+void ShowRamp(AnalyticScene& s, vtkDataArray* array, int nx, int ny, int nz, double top,
+  double peak)
 {
-  AnalyticScene s(48);
-  s.Mapper->SetInputData(Image(array, 1024, 256, 256));
+  s.Mapper->SetInputData(Image(array, nx, ny, nz));
   s.Color->RemoveAllPoints();
   s.Color->AddRGBPoint(0, 0.2, 0.4, 1.0);
   s.Color->AddRGBPoint(4000, 1.0, 0.9, 0.5);
   s.Opacity->RemoveAllPoints();
   s.Opacity->AddPoint(0, 0.0);
   s.Opacity->AddPoint(1500, 0.0);
-  s.Opacity->AddPoint(4000, 0.6);
+  s.Opacity->AddPoint(top, peak);
   s.Mapper->SetDenoise(false);
   s.Renderer->ResetCamera();
+}
+
+/// Radiance of one frame of the 1024 x 256 x 256 ramp volume given as @a array.
+std::vector<float> RenderBig(vtkDataArray* array)
+{
+  AnalyticScene s(48);
+  ShowRamp(s, array, 1024, 256, 256, 4000, 0.6);
   s.Window->Render();
   return s.Pass("Radiance");
 }
@@ -247,16 +255,7 @@ void GiantVolumeOneRank()
     }
   }
   AnalyticScene s(64);
-  s.Mapper->SetInputData(Image(shorts, side, side, side));
-  s.Color->RemoveAllPoints();
-  s.Color->AddRGBPoint(0, 0.2, 0.4, 1.0);
-  s.Color->AddRGBPoint(4000, 1.0, 0.9, 0.5);
-  s.Opacity->RemoveAllPoints();
-  s.Opacity->AddPoint(0, 0.0);
-  s.Opacity->AddPoint(1500, 0.0);
-  s.Opacity->AddPoint(3000, 0.8);
-  s.Mapper->SetDenoise(false);
-  s.Renderer->ResetCamera();
+  ShowRamp(s, shorts, side, side, side, 3000, 0.8);
   const double held = StatusBytes("VmRSS");
   {
     std::ofstream reset("/proc/self/clear_refs");
