@@ -236,6 +236,7 @@ inline void BuildBrickRangesOf(
 inline void BuildBrickRanges(
   const VolumeGrid& g, int brickSize, int bzBegin, int bzEnd, float* ranges)
 {
+  // Not WithScalars: that one is __host__ __device__, and nvcc refuses it a host-only body.
   switch (g.Type)
   {
     case kScalarUInt8:

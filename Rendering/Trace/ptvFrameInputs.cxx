@@ -120,7 +120,7 @@ bool FrameInputs::UpdateTransfer(vtkVolumeProperty* property, bool skipping,
   if (skipping)
   {
     VolumeGrid grid{};
-    grid.Scalars = this->ScalarData;
+    grid.Scalars = this->GetScalarData();
     grid.Type = this->ScalarType;
     std::copy(this->Dims, this->Dims + 3, grid.Dims);
     ComputeBrickCounts(this->Dims, kBrickSize, this->BrickCounts);
@@ -159,7 +159,7 @@ bool FrameInputs::Build(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
 
   // Volume: voxels and index <-> world.
   VolumeGrid& g = p.Volume;
-  g.Scalars = this->ScalarData;
+  g.Scalars = this->GetScalarData();
   g.Type = this->ScalarType;
   std::copy(this->Dims, this->Dims + 3, g.Dims);
   if (!this->ColorScalars.empty() && !this->ColorRGBA.empty())

@@ -17,6 +17,7 @@
 #include "ptvFrameSignature.h"
 #include "ptvPieces.h"
 
+#include "vtkDataArray.h"    // for the array read in place
 #include "vtkSmartPointer.h" // for the array read in place
 #include "vtkType.h"
 
@@ -24,7 +25,6 @@
 #include <string>
 #include <vector>
 
-class vtkDataArray;
 class vtkImageData;
 class vtkRenderer;
 class vtkVolume;
@@ -75,7 +75,11 @@ public:
 
   /// The voxels the kernels read (VolumeGrid::Scalars) and their ScalarType, valid after
   /// UpdateVolume: the input array's own memory where it is read in place, else a float copy.
-  const void* GetScalarData() const { return this->ScalarData; }
+  const void* GetScalarData() const
+  {
+    return this->InPlace ? this->InPlace->GetVoidPointer(0)
+                         : (this->Scalars.empty() ? nullptr : this->Scalars.data());
+  }
   int GetScalarType() const { return this->ScalarType; }
 
   /// Changes whenever the float copy of the voxels is rebuilt (device copies key on it).
@@ -104,11 +108,10 @@ private:
   vtkMTimeType VolumeTime = 0;
   unsigned long long VolumeVersion = 0; ///< +1 per rebuild of Scalars/Colors/ColorScalars
   vtkDataArray* VolumeArray = nullptr; // identity only, never dereferenced after UpdateVolume
-  /// The voxels the kernels read (VolumeGrid::Scalars, of ScalarType): the input array itself
-  /// where it can be read in place (InPlace holds it; ptvScalarChannel.h), else Scalars.
-  const void* ScalarData = nullptr;
-  int ScalarType = kScalarFloat;
+  /// The input array where the kernels read it in place (ptvScalarChannel.h; its voxels are of
+  /// ScalarType), else null and the voxels are the float copy Scalars.
   vtkSmartPointer<vtkDataArray> InPlace;
+  int ScalarType = kScalarFloat;
   std::vector<float> Scalars; ///< the float copy, (v - Shift) * Scale: see StoredAs in the .cxx
   double Shift = 0.0, Scale = 1.0;
   int Dims[3] = { 0, 0, 0 };

@@ -78,13 +78,12 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   }
   const vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
   if (scalars == this->VolumeArray && t <= this->VolumeTime && dependent == this->Dependent &&
-    this->ScalarData)
+    this->GetScalarData())
   {
     return true;
   }
   // The opacity channel (the last component) drives opacity, gradients and the occupancy. An
   // 8- or 16-bit (or plain float) channel is read in place; others are copied as float.
-  this->ScalarData = nullptr;
   this->InPlace = nullptr;
   std::vector<float>().swap(this->Scalars);
   double range[2];
@@ -98,7 +97,6 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   if (inPlace >= 0)
   {
     this->InPlace = scalars;
-    this->ScalarData = scalars->GetVoidPointer(0);
     this->ScalarType = inPlace;
     this->Shift = 0.0;
     this->Scale = 1.0;
@@ -106,9 +104,8 @@ bool FrameInputs::UpdateVolume(vtkImageData* image, vtkDataArray* scalars, bool 
   else
   {
     this->Scalars.resize(static_cast<std::size_t>(n));
-    CopyChannel(scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, nonFinite, this->Shift,
-      this->Scale);
-    this->ScalarData = this->Scalars.data();
+    StoreChannel(
+      scalars, comps - 1, 1.0f, this->Scalars.data(), 1, range, this->Shift, this->Scale);
     this->ScalarType = kScalarFloat;
   }
   WidenRange(range);

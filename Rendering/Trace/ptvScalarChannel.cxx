@@ -159,6 +159,13 @@ void CopyChannel(vtkDataArray* array, int component, float factor, float* out, i
   double range[2], vtkIdType& nonFinite, double& shift, double& scale)
 {
   ChannelRangeOf(array, component, range, nonFinite);
+  StoreChannel(array, component, factor, out, stride, range, shift, scale);
+}
+
+//------------------------------------------------------------------------------
+void StoreChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
+  const double range[2], double& shift, double& scale)
+{
   StoredAs(range, shift, scale);
   if (factor != 1.0f)
   {

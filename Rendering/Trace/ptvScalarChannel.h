@@ -28,6 +28,10 @@ namespace ptv
 void CopyChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
   double range[2], vtkIdType& nonFinite, double& shift, double& scale);
 
+/// CopyChannel with the channel's finite @a range already known (ChannelRangeOf).
+void StoreChannel(vtkDataArray* array, int component, float factor, float* out, int stride,
+  const double range[2], double& shift, double& scale);
+
 /// Component @a component's finite range in @a range and its count of non-finite values.
 void ChannelRangeOf(vtkDataArray* array, int component, double range[2], vtkIdType& nonFinite);
 
