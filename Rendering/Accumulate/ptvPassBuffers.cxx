@@ -62,10 +62,30 @@ void PassBuffers::Resize(int width, int height)
   this->Width = width;
   this->Height = height;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const int kept = this->Set == PassSet::All ? PassCount : kTracedPassCount;
   for (int i = 0; i < PassCount; ++i)
   {
-    this->Buffers[i].assign(pixels * kPasses[i].Components, 0.0f);
+    if (i < kept && !IsOnRequestPass(i))
+    {
+      this->Buffers[i].assign(pixels * kPasses[i].Components, 0.0f);
+    }
+    else
+    {
+      std::vector<float>().swap(this->Buffers[i]); // not kept: no memory
+    }
   }
+}
+
+//------------------------------------------------------------------------------
+float* PassBuffers::Ensure(int pass)
+{
+  const std::size_t n = static_cast<std::size_t>(this->Width) *
+    static_cast<std::size_t>(this->Height) * static_cast<std::size_t>(kPasses[pass].Components);
+  if (this->Buffers[pass].size() != n)
+  {
+    this->Buffers[pass].assign(n, 0.0f);
+  }
+  return this->Buffers[pass].data();
 }
 
 //------------------------------------------------------------------------------

@@ -122,19 +122,49 @@ inline bool IsHit(float depth, float far)
 /// Index of the pass called @a name, or -1.
 int FindPass(const char* name);
 
+/// Which passes a PassBuffers keeps per pixel.
+enum class PassSet
+{
+  All,   ///< an accumulation: every pass, the denoiser's Guides and BlendWeights on request
+  Traced ///< the traced passes only: a frame's samples (the derived passes stay empty)
+};
+
+/// Whether a PassSet::All buffer makes @a pass only on request (Ensure): the denoiser keeps
+/// its guides and weights in its own layout, copied into these passes when they are read.
+inline bool IsOnRequestPass(int pass)
+{
+  return pass == PassGuides || pass == PassBlendWeights;
+}
+
 class PassBuffers
 {
 public:
+  explicit PassBuffers(PassSet set = PassSet::All)
+    : Set(set)
+  {
+  }
+
   /// Reallocate for a new size (contents cleared); a no-op when the size is unchanged.
   void Resize(int width, int height);
 
   /// Set every value to 0.
   void Clear();
 
+  /// Allocate an on-request pass (IsOnRequestPass) of the current size, zeros; its values.
+  float* Ensure(int pass);
+
   int GetWidth() const { return this->Width; }
   int GetHeight() const { return this->Height; }
-  float* Data(int pass) { return this->Buffers[pass].data(); }
-  const float* Data(int pass) const { return this->Buffers[pass].data(); }
+  /// A pass's values (nullptr for a pass not kept: a derived pass of a PassSet::Traced
+  /// buffer, an on-request pass before Ensure).
+  float* Data(int pass)
+  {
+    return this->Buffers[pass].empty() ? nullptr : this->Buffers[pass].data();
+  }
+  const float* Data(int pass) const
+  {
+    return this->Buffers[pass].empty() ? nullptr : this->Buffers[pass].data();
+  }
   /// The traced passes' pointers (valid until the next Resize or Accumulate).
   TracedPassPlanes Planes();
 
@@ -153,6 +183,7 @@ public:
   void Swap(int pass, PassBuffers& other) { this->Buffers[pass].swap(other.Buffers[pass]); }
 
 private:
+  PassSet Set = PassSet::All;
   int Width = 0;
   int Height = 0;
   std::vector<float> Buffers[PassCount];

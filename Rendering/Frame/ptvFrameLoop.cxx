@@ -202,6 +202,10 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return;
   }
   const int shownPass = this->ShownPass(request, messages);
+  if (IsOnRequestPass(shownPass))
+  {
+    this->FillGuidePasses();
+  }
   // Denoised and Converged are drawn with their own opacity (DenoiseFrame, Combine).
   const std::size_t pixels = static_cast<std::size_t>(this->Accumulated.GetWidth()) *
     static_cast<std::size_t>(this->Accumulated.GetHeight());

@@ -136,7 +136,11 @@ public:
   double GetLastTraceTime() const { return this->LastTraceTime; }
   double GetLastDenoiseTime() const { return this->LastDenoiseTime; }
   /// The accumulated passes, and the denoiser's when GetDenoisedValid().
-  const PassBuffers& GetPasses() const { return this->Accumulated; }
+  const PassBuffers& GetPasses()
+  {
+    this->FillGuidePasses();
+    return this->Accumulated;
+  }
   bool GetDenoisedValid() const { return this->DenoisedValid; }
   const std::string& GetActiveBackend() const { return this->Tracer.GetLastBackend(); }
   const std::string& GetDenoiserStatus() const { return this->Denoising.GetStatus(); }
@@ -162,6 +166,8 @@ private:
   /// The denoiser's settings for @a request (its threads; the grid on the tracer's device).
   DenoiserSettings SettingsOf(const FrameRequest& request) const;
   bool DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
+  /// Copy the last denoise's guides and weights into their passes (once per denoise).
+  void FillGuidePasses();
   /// Denoise (when on) and combine; updates EstimatedQuality.
   void Combine(const FrameRequest& request, FrameMessages& messages);
   /// The still render's loop (after the render's first frame).
@@ -173,9 +179,11 @@ private:
   TraceParams Params{};
   FrameSignature Signature; ///< of the frame that started the accumulation (or the view)
   TracerRunner Tracer;
-  PassBuffers Frame;
-  PassBuffers Sample; ///< distributed pieces, SamplesPerFrame > 1: one sample at a time
-  PassBuffers EdgeList; ///< distributed pieces: every extra edge sample on its own
+  PassBuffers Frame{ PassSet::Traced };
+  /// Distributed pieces, SamplesPerFrame > 1: one sample at a time.
+  PassBuffers Sample{ PassSet::Traced };
+  /// Distributed pieces: every extra edge sample on its own.
+  PassBuffers EdgeList{ PassSet::Traced };
   PassBuffers Accumulated;
   Reprojection History;
   CameraRays AccumulatedCamera{}; ///< the camera of the accumulated passes
@@ -206,6 +214,7 @@ private:
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;
   bool DenoisedValid = false;          ///< Denoised/Guides/BlendWeights match the passes
+  bool GuidePassesValid = false;       ///< Guides/BlendWeights hold the last denoise's
   std::vector<std::string> DenoiseKey; ///< settings of the last denoise
   std::string LastError;
   std::string DisplayProblem; ///< the last DisplayPass problem reported (ShownPass)

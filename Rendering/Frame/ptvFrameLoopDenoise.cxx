@@ -75,13 +75,30 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     messages.emplace_back(false, warning);
   }
+  this->DenoisedValid = true;
+  this->GuidePassesValid = false; // copied from the denoiser's when read (GetPasses)
+  this->CombinedValid = false;
+  this->DenoiseKey = key;
+  this->LastDenoiseTime += 1000.0 * (Now() - start);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::FillGuidePasses()
+{
+  if (!this->DenoisedValid || this->GuidePassesValid)
+  {
+    return;
+  }
   // Guides (one level per component) and blend weights, zero-padded to 3 and 2 components.
+  PassBuffers& acc = this->Accumulated;
   const int levels = this->Denoising.GetLevels();
   const std::vector<float>& guideIn = this->Denoising.GetGuides();
   const std::vector<float>& weightIn = this->Denoising.GetWeights();
-  float* guides = acc.Data(PassGuides);
-  float* weights = acc.Data(PassBlendWeights);
-  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  float* guides = acc.Ensure(PassGuides);
+  float* weights = acc.Ensure(PassBlendWeights);
+  const std::size_t n =
+    static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
   for (std::size_t k = 0; k < n; ++k)
   {
     for (int l = 0; l < 3; ++l)
@@ -93,11 +110,7 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
       weights[2 * k + l] = l < levels - 1 ? weightIn[k * (levels - 1) + l] : 0.0f;
     }
   }
-  this->DenoisedValid = true;
-  this->CombinedValid = false;
-  this->DenoiseKey = key;
-  this->LastDenoiseTime += 1000.0 * (Now() - start);
-  return true;
+  this->GuidePassesValid = true;
 }
 
 //------------------------------------------------------------------------------

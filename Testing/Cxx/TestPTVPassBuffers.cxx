@@ -109,18 +109,42 @@ void TestSizing(std::mt19937& rng)
   for (int pass = 0; pass < ptv::PassCount; ++pass)
   {
     const float* d = b.Data(pass);
+    if (ptv::IsOnRequestPass(pass))
+    {
+      sized = sized && d == nullptr;
+      continue;
+    }
     for (std::size_t i = 0; i < Values(b, pass); ++i)
     {
       sized = sized && d[i] == 0.f;
     }
   }
-  Check(sized && b.GetWidth() == 4 && b.GetHeight() == 2, "Resize allocates zeroed passes");
+  Check(sized && b.GetWidth() == 4 && b.GetHeight() == 2,
+    "Resize allocates zeroed passes, the on-request ones not");
   b.Store(5, RandomSample(rng));
   const float kept = b.Data(ptv::PassAlpha)[5];
   b.Resize(4, 2);
   Check(b.Data(ptv::PassAlpha)[5] == kept && kept != 0.f, "Resize to the same size keeps");
+  float* guides = b.Ensure(ptv::PassGuides);
+  bool zeros = guides != nullptr;
+  for (std::size_t i = 0; zeros && i < Values(b, ptv::PassGuides); ++i)
+  {
+    zeros = guides[i] == 0.f;
+  }
+  guides[23] = 1.f;
+  Check(zeros && b.Ensure(ptv::PassGuides) == guides && guides[23] == 1.f,
+    "Ensure allocates an on-request pass of the size, zeros, once");
   b.Resize(2, 4);
-  Check(b.Data(ptv::PassAlpha)[5] == 0.f, "Resize to another size clears");
+  Check(b.Data(ptv::PassAlpha)[5] == 0.f && b.Data(ptv::PassGuides) == nullptr,
+    "Resize to another size clears, and drops the on-request passes");
+  ptv::PassBuffers traced(ptv::PassSet::Traced);
+  traced.Resize(4, 2);
+  bool tracedOnly = true;
+  for (int pass = 0; pass < ptv::PassCount; ++pass)
+  {
+    tracedOnly = tracedOnly && (traced.Data(pass) != nullptr) == (pass < ptv::kTracedPassCount);
+  }
+  Check(tracedOnly, "a PassSet::Traced buffer keeps the traced passes only");
   b.Store(1, RandomSample(rng));
   b.Data(ptv::PassConverged)[0] = 2.f;
   b.Clear();
