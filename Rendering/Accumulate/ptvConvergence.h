@@ -21,6 +21,9 @@
  * the delta method does: V = (g(A) - g(B))^2 n_A n_B / k^2 over a box, and with
  * rho = w_M + w_3 / 9 + w_7 / 49 (how much of M's own noise the mix keeps)
  * MSE = mean(max(box((g(C) - g(M))^2) - (1 - 2 rho) V, rho^2 V)).
+ *
+ * The features and candidates are made a band of rows at a time (with the rows their boxes
+ * reach), so that only the running statistics are kept per pixel.
  */
 #ifndef ptvConvergence_h
 #define ptvConvergence_h
@@ -43,28 +46,42 @@ public:
    */
   void AddFrame(const float* frame, int width, int height, int count, int threads = 0);
 
+  /// The images Combine mixes and writes.
+  struct Images
+  {
+    const float* Denoised = nullptr;      ///< D, 3 floats per pixel (nullptr: Denoise off)
+    const float* Alpha = nullptr;         ///< the accumulated opacity (optional)
+    const float* DenoisedAlpha = nullptr; ///< the opacity through the denoiser's grid
+    float* Shown = nullptr;               ///< the mix, 3 floats per pixel (with Denoised)
+    float* ShownAlpha = nullptr; ///< its opacity: the same mix of the two alphas, in [0, 1]
+    std::size_t Pixels = 0;      ///< pixels of each image
+  };
+
   /**
-   * The image to show from the mean of the @a count frames added and @a denoised (nullptr:
-   * Denoise off, the accumulation is shown) into @a shown (3 floats per pixel; may be nullptr
-   * when @a denoised is). Returns the estimated PSNR in dB of the mean, or of what is shown with
-   * a denoiser (tone-mapped, like docs/measuring.md); 0 when not known (fewer than 2 frames, or
-   * halves that agree exactly: nothing met yet says how much is still to meet) or not asked for
+   * The image to show from the mean of the @a count frames added and @a images.Denoised
+   * (nullptr: Denoise off, the accumulation is shown) into @a images.Shown, and with the
+   * alphas its opacity into ShownAlpha (without statistics of this size: DenoisedAlpha).
+   * Returns the estimated PSNR in dB of the mean, or of what is shown with a denoiser
+   * (tone-mapped, like docs/measuring.md); 0 when not known (fewer than 2 frames, or halves
+   * that agree exactly: nothing met yet says how much is still to meet) or not asked for
    * (@a estimate off: the image alone, a third cheaper).
    */
-  double Combine(const float* denoised, int count, float* shown, int threads, bool estimate = true);
-
-  /**
-   * The opacity to draw the last Combine's shown image with: per pixel the same mix of the
-   * accumulated @a alpha and @a denoisedAlpha (the alpha through the denoiser's grid) as the
-   * colour's, clamped to [0, 1], into @a shown (@a pixels floats each; without statistics of
-   * this size, @a denoisedAlpha).
-   */
-  void BlendAlpha(const float* alpha, const float* denoisedAlpha, std::size_t pixels,
-    float* shown, int threads);
+  double Combine(const Images& images, int count, int threads, bool estimate = true);
 
 private:
-  /// The learned mix of @a denoised and the mean after @a k frames into @a shown (Weights).
-  void Blend(const float* denoised, int k, float* shown, int threads);
+  /// Per band of rows: its features and candidates (kept between frames: no allocation).
+  struct Band
+  {
+    std::vector<float> Variance, Distance, ToneMean, ToneDenoised, Residual, AlphaResidual;
+    std::vector<float> VarianceBoxed, Distance3, Distance7, Residual3, Residual7, Alpha3, Alpha7;
+    std::vector<float> Rows;
+    std::vector<double> Sums;
+  };
+
+  /// The learned mix of the images after @a k frames (and rho per pixel when @a rho).
+  void Blend(const Images& images, int k, bool rho, int threads);
+  /// Blend's band @a band of kBandRows rows.
+  void BlendBand(const Images& images, int k, bool rho, int band, Band& scratch);
 
   int Width = 0;
   int Height = 0;
@@ -72,11 +89,9 @@ private:
   std::vector<float> Mean;         ///< mean of the frames, 3 per pixel
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
-  std::vector<float> Variance, VarianceBoxed, Distance, Distance3, Distance7; ///< features
-  std::vector<float> ToneMean, ToneDenoised; ///< features: tone-mapped luminance of M and D
-  std::vector<float> Residual3, Residual7; ///< box3 and box7 of M - D (of the alpha: BlendAlpha)
-  std::vector<float> HalfVariance, Error, Scratch;
-  std::vector<float> Weights; ///< the last Combine's 4 weights per pixel (D, box3, box7, M)
+  std::vector<Band> Bands;         ///< one per band made at once
+  std::vector<float> HalfVariance, Error, Scratch; ///< the estimate's
+  std::vector<float> Rho; ///< how much of M's noise the last mix keeps (the estimate's)
 };
 }
 

@@ -88,9 +88,65 @@ inline int VarianceBox(int count)
   return count < 16 ? 7 : count < 32 ? 5 : count < 128 ? 3 : 1;
 }
 
+/// The horizontal box (size 2r + 1, edges clamped, @a norm = 1 / size) of one row of @a width
+/// pixels of @a channels interleaved floats.
+inline void BoxRow(const float* row, float* out, int width, int channels, int r, float norm)
+{
+  for (int c = 0; c < channels; ++c)
+  {
+    const float* src = row + c;
+    float* dst = out + c;
+    auto at = [&](int i)
+    { return src[static_cast<std::size_t>(std::min(std::max(i, 0), width - 1)) * channels]; };
+    double sum = 0.0;
+    for (int i = -r; i <= r; ++i)
+    {
+      sum += at(i);
+    }
+    for (int x = 0; x < width; ++x)
+    {
+      dst[static_cast<std::size_t>(x) * channels] = static_cast<float>(sum) * norm;
+      sum += at(x + r + 1) - at(x - r);
+    }
+  }
+}
+
+/// The vertical box of rows [y0, y1) into @a out (row y at (y - y0) x @a stride) as running
+/// sums (in @a sum, @a stride doubles) that start at y0, from the horizontally boxed rows:
+/// @a row(y) is row y clamped to the image.
+template <typename RowAt>
+void BoxColumns(const RowAt& row, int y0, int y1, int r, float norm, std::size_t stride,
+  float* out, double* sum)
+{
+  std::fill(sum, sum + stride, 0.0);
+  for (int i = y0 - r; i <= y0 + r; ++i)
+  {
+    const float* src = row(i);
+    for (std::size_t j = 0; j < stride; ++j)
+    {
+      sum[j] += src[j];
+    }
+  }
+  for (int y = y0; y < y1; ++y)
+  {
+    float* dst = out + static_cast<std::size_t>(y - y0) * stride;
+    const float* add = row(y + r + 1);
+    const float* drop = row(y - r);
+    for (std::size_t j = 0; j < stride; ++j)
+    {
+      dst[j] = static_cast<float>(sum[j]) * norm;
+      sum[j] += static_cast<double>(add[j]) - drop[j];
+    }
+  }
+}
+
+/// Rows of the vertical pass that share one running sum: a box's value does not depend on how
+/// the image is cut into threads' rows or bands (a multiple of it).
+constexpr int kBoxRows = 16;
+
 /// @a map (width x height pixels of @a channels interleaved floats) box-filtered in place over
 /// size x size pixels, edges clamped: rows, then columns as running sums of whole rows (each
-/// band of rows starts its own sum), both cache-friendly and in parallel.
+/// kBoxRows rows start their own sum), both cache-friendly and in parallel.
 inline void Box(std::vector<float>& map, std::vector<float>& scratch, int width, int height,
   int channels, int size, int threads)
 {
@@ -109,51 +165,49 @@ inline void Box(std::vector<float>& map, std::vector<float>& scratch, int width,
     {
       for (int y = y0; y < y1; ++y)
       {
-        for (int c = 0; c < channels; ++c)
-        {
-          const float* src = in + y * stride + c;
-          float* dst = rows + y * stride + c;
-          auto at = [&](int i)
-          { return src[static_cast<std::size_t>(std::min(std::max(i, 0), width - 1)) * channels]; };
-          double sum = 0.0;
-          for (int i = -r; i <= r; ++i)
-          {
-            sum += at(i);
-          }
-          for (int x = 0; x < width; ++x)
-          {
-            dst[static_cast<std::size_t>(x) * channels] = static_cast<float>(sum) * norm;
-            sum += at(x + r + 1) - at(x - r);
-          }
-        }
+        BoxRow(in + y * stride, rows + y * stride, width, channels, r, norm);
       }
     });
   float* out = map.data();
-  ParallelFor(threads, 0, height, 16,
+  ParallelFor(threads, 0, height, kBoxRows,
     [&](int y0, int y1)
     {
-      std::vector<double> sum(stride, 0.0);
+      std::vector<double> sum(stride);
       auto row = [&](int y) { return rows + std::min(std::max(y, 0), height - 1) * stride; };
-      for (int i = y0 - r; i <= y0 + r; ++i)
-      {
-        const float* src = row(i);
-        for (std::size_t j = 0; j < stride; ++j)
-        {
-          sum[j] += src[j];
-        }
-      }
-      for (int y = y0; y < y1; ++y)
-      {
-        float* dst = out + y * stride;
-        const float* add = row(y + r + 1);
-        const float* drop = row(y - r);
-        for (std::size_t j = 0; j < stride; ++j)
-        {
-          dst[j] = static_cast<float>(sum[j]) * norm;
-          sum[j] += static_cast<double>(add[j]) - drop[j];
-        }
-      }
+      BoxColumns(row, y0, y1, r, norm, stride, out + y0 * stride, sum.data());
     });
+}
+
+/// Box() of the rows [y0, y1) of an image of @a height rows (y0 a multiple of kBoxRows; the
+/// same values), from its rows [r0, r1) in @a in (which must hold the rows y0 - size / 2 to
+/// y1 + size / 2 that are in the image), into @a out (row y0 first); @a rows and @a sum are
+/// scratch.
+inline void BoxBand(const float* in, int r0, int r1, int y0, int y1, int width, int height,
+  int channels, int size, float* out, std::vector<float>& rows, std::vector<double>& sum)
+{
+  const std::size_t stride = static_cast<std::size_t>(width) * channels;
+  if (size <= 1)
+  {
+    std::copy(in + (y0 - r0) * stride, in + (y1 - r0) * stride, out);
+    return;
+  }
+  const int r = size / 2;
+  const float norm = 1.0f / static_cast<float>(size);
+  rows.resize(static_cast<std::size_t>(r1 - r0) * stride);
+  sum.resize(stride);
+  const int first = std::max(y0 - r, 0);
+  const int last = std::min(y1 + r + 1, height); // the running sum reads one row further
+  for (int y = first; y < last; ++y)
+  {
+    BoxRow(in + (y - r0) * stride, rows.data() + (y - r0) * stride, width, channels, r, norm);
+  }
+  auto row = [&](int y)
+  { return rows.data() + (std::min(std::max(y, 0), height - 1) - r0) * stride; };
+  for (int c = y0; c < y1; c += kBoxRows)
+  {
+    BoxColumns(row, c, std::min(c + kBoxRows, y1), r, norm, stride, out + (c - y0) * stride,
+      sum.data());
+  }
 }
 
 /// exp(x) for x <= 0 to about 2e-5 relative (the softmax's; std::exp four times a pixel was a

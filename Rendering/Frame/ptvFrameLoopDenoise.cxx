@@ -129,18 +129,21 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
     return;
   }
   PassBuffers& acc = this->Accumulated;
-  this->EstimatedQuality = this->Converging.Combine(denoised ? acc.Data(PassDenoised) : nullptr,
-    this->AccumulatedFrames, denoised ? acc.Data(PassConverged) : nullptr, request.Threads,
-    estimate);
-  this->CombinedWithEstimate = estimate;
+  Convergence::Images images;
+  images.Pixels =
+    static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
   if (denoised)
   {
-    const std::size_t n =
-      static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
-    this->ConvergedAlpha.resize(n);
-    this->Converging.BlendAlpha(acc.Data(PassAlpha), acc.Data(PassDenoisedAlpha), n,
-      this->ConvergedAlpha.data(), request.Threads);
+    this->ConvergedAlpha.resize(images.Pixels);
+    images.Denoised = acc.Data(PassDenoised);
+    images.Shown = acc.Data(PassConverged);
+    images.Alpha = acc.Data(PassAlpha);
+    images.DenoisedAlpha = acc.Data(PassDenoisedAlpha);
+    images.ShownAlpha = this->ConvergedAlpha.data();
   }
+  this->EstimatedQuality =
+    this->Converging.Combine(images, this->AccumulatedFrames, request.Threads, estimate);
+  this->CombinedWithEstimate = estimate;
   this->CombinedValid = true;
   this->CombinedWithDenoiser = denoised;
 }
