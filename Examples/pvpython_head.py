@@ -71,6 +71,12 @@ def run(args: argparse.Namespace) -> Dict[str, np.ndarray]:
     display.SetRepresentationType("Path Traced Volume")
     simple.ColorBy(display, ("POINTS", "ImageScalars"))
     display.MaximumAccumulatedFrames = args.frames
+    # Write Passes writes the passes the mapper keeps; the Scatter* ones need the expert option
+    # ScatterPasses, which the representation does not show: set it on the representation's
+    # mapper (in this builtin session the client-side object is the one that renders).
+    import pathtracedvolume.vtkPTVParaViewViews  # noqa: F401 (wraps the representation's class)
+    representation = display.GetClientSideObject().GetActiveRepresentation()
+    representation.GetPathTracedMapper().GetExpertOptions().ScatterPassesOn()
 
     # The preset's colour and opacity (ImportPresets once per user profile; ApplyPreset by name).
     lut = simple.GetColorTransferFunction("ImageScalars")

@@ -79,6 +79,7 @@ def render(args: argparse.Namespace) -> Dict[str, np.ndarray]:
     mapper.SetInputConnection(reader.GetOutputPort())
     mapper.GetExpertOptions().SetMaximumAccumulatedFrames(args.frames)
     mapper.SetDenoise(not args.no_denoise)
+    mapper.GetExpertOptions().ScatterPassesOn()  # keep the Scatter* passes too: every pass
     volume = vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)

@@ -20,6 +20,7 @@ vtkPTVExpertOptions::vtkPTVExpertOptions()
   this->CoverageMarch = scene.CoverageMarch;
   this->ExpectedCoverage = scene.ExpectedCoverage;
   this->FootprintRays = scene.FootprintRays;
+  this->ScatterPasses = defaults.ScatterPasses;
   this->EdgeSamples = defaults.EdgeSamples;
   this->ComputeEdgeSamples = defaults.ComputeEdgeSamples;
   this->AmbientOcclusionReach = scene.AmbientOcclusionReach;
@@ -65,6 +66,7 @@ void vtkPTVExpertOptions::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CoverageMarch: " << this->CoverageMarch << "\n";
   os << indent << "ExpectedCoverage: " << this->ExpectedCoverage << "\n";
   os << indent << "FootprintRays: " << this->FootprintRays << "\n";
+  os << indent << "ScatterPasses: " << this->ScatterPasses << "\n";
   os << indent << "EdgeSamples: " << this->EdgeSamples << "\n";
   os << indent << "ComputeEdgeSamples: " << this->ComputeEdgeSamples << "\n";
   os << indent << "AmbientOcclusionReach: " << this->AmbientOcclusionReach << "\n";

@@ -57,6 +57,14 @@ public:
   vtkBooleanMacro(FootprintRays, bool);
   ///@}
 
+  ///@{
+  /// Keep the ScatterDepth, ScatterPosition and ScatterNormal passes (GetPass, GetPasses)
+  /// even when neither DisplayPass nor the denoiser's model reads them. Default off.
+  vtkSetMacro(ScatterPasses, bool);
+  vtkGetMacro(ScatterPasses, bool);
+  vtkBooleanMacro(ScatterPasses, bool);
+  ///@}
+
   /// Samples per frame on the volume's edge pixels of a denoised frame (1: none). Default 3,
   /// range [1, 64].
   virtual void SetEdgeSamples(int value);
@@ -126,6 +134,7 @@ protected:
   bool CoverageMarch;
   bool ExpectedCoverage;
   bool FootprintRays;
+  bool ScatterPasses;
   int EdgeSamples;
   bool ComputeEdgeSamples;
   double AmbientOcclusionReach;

@@ -172,6 +172,12 @@ bool vtkPathTracedVolumeMapper::GetPass(const char* name, vtkImageData* output)
     return false;
   }
   const ptv::PassBuffers& acc = this->Internals->Loop.GetPasses();
+  if (!acc.Data(pass))
+  {
+    vtkErrorMacro(<< "Pass '" << name << "' is not kept; turn on the expert option "
+                  << "ScatterPasses (GetExpertOptions()->ScatterPassesOn()) and render again.");
+    return false;
+  }
   const int comps = ptv::GetPassInfo(pass).Components;
   const vtkIdType n = static_cast<vtkIdType>(acc.GetWidth()) * acc.GetHeight();
   vtkNew<vtkFloatArray> array;
@@ -215,9 +221,10 @@ bool vtkPathTracedVolumeMapper::GetPasses(vtkImageData* output)
   output->SetSpacing(1, 1, 1);
   for (int pass = 0; pass < ptv::PassCount; ++pass)
   {
-    if (ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid())
+    if ((ptv::IsDenoiserPass(pass) && !this->Internals->Loop.GetDenoisedValid()) ||
+      !acc.Data(pass))
     {
-      continue;
+      continue; // not made (Denoise off) or not kept (ScatterPasses off)
     }
     const int comps = ptv::GetPassInfo(pass).Components;
     vtkNew<vtkFloatArray> array;
@@ -338,6 +345,7 @@ void vtkPathTracedVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     request.Denoiser.UseNetwork = options->GetDenoiserUseNetwork();
     request.Denoiser.Levels = options->GetDenoiserNumberOfLevels();
     request.DisplayPass = this->DisplayPass ? this->DisplayPass : "";
+    request.ScatterPasses = options->GetScatterPasses();
     request.Still = this->ConvergeStillRenders && vol->GetAllocatedRenderTime() >= 1.0;
     request.StillQuality = this->StillQuality;
     request.MaximumStillFrames = options->GetMaximumStillFrames();

@@ -13,8 +13,9 @@
  * Composite, IsoSurface, maximum/minimum/average intensity and additive are honoured.
  *
  * Passes (GetPassName, GetPass, GetPasses): Radiance, Alpha, Albedo, Depth, Position, Normal,
- * ScatterDepth, ScatterPosition, ScatterNormal, Coverage, Footprint, and with Denoise on
- * Denoised, Guides, BlendWeights, Converged, DenoisedAlpha; HistoryLength and SampleRatio.
+ * Coverage, Footprint, ScatterDepth, ScatterPosition and ScatterNormal (kept when asked for:
+ * the expert option ScatterPasses, or DisplayPass), and with Denoise on Denoised, Guides,
+ * BlendWeights, Converged, DenoisedAlpha; HistoryLength and SampleRatio.
  * docs/properties.md describes every property and pass; rarely needed settings are in
  * GetExpertOptions(). The frame itself runs in ptvFrameLoop (this class is its VTK face).
  */
@@ -152,10 +153,11 @@ public:
   ///@}
 
   /// Copy the named pass of the current accumulation into @a output (float point data on the
-  /// viewport's pixels). False with an error for an unknown name or when none is available.
+  /// viewport's pixels). False with an error for an unknown name, a pass not kept or when
+  /// none is available.
   bool GetPass(const char* name, vtkImageData* output);
 
-  /// Copy every available pass into @a output, one array per pass, "Radiance" active (ready
+  /// Copy every kept pass into @a output, one array per pass, "Radiance" active (ready
   /// for vtkPTVEXRPassWriter). False with an error when none is available.
   bool GetPasses(vtkImageData* output);
 

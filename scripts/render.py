@@ -67,6 +67,8 @@ def render(args: argparse.Namespace) -> float:
     if args.mapper == "pathtraced":
         mapper.SetSeed(args.seed)
         mapper.GetExpertOptions().SetMaximumAccumulatedFrames(max(1, args.spp))
+        if args.passes_dir is not None:
+            mapper.GetExpertOptions().ScatterPassesOn()  # every pass is written
     frames = max(1, args.spp) if args.mapper == "pathtraced" else 1
     start = time.perf_counter()
     for _ in tqdm(range(frames), desc="frames", unit="frame", disable=frames < 8):

@@ -61,11 +61,34 @@ void PassBuffers::Resize(int width, int height)
   }
   this->Width = width;
   this->Height = height;
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  this->Allocate(false);
+}
+
+//------------------------------------------------------------------------------
+void PassBuffers::SetScatterPasses(bool keep)
+{
+  if (keep != this->Scatter)
+  {
+    this->Scatter = keep;
+    this->Allocate(true);
+  }
+}
+
+//------------------------------------------------------------------------------
+void PassBuffers::Allocate(bool keepValues)
+{
+  const std::size_t pixels =
+    static_cast<std::size_t>(this->Width) * static_cast<std::size_t>(this->Height);
   const int kept = this->Set == PassSet::All ? PassCount : kTracedPassCount;
   for (int i = 0; i < PassCount; ++i)
   {
-    if (i < kept && !IsOnRequestPass(i))
+    const bool keep = i < kept && !IsOnRequestPass(i) && (this->Scatter || !IsScatterPass(i));
+    const bool allocated = this->Buffers[i].size() == pixels * kPasses[i].Components;
+    if (keepValues && ((allocated && keep) || IsOnRequestPass(i)))
+    {
+      continue; // SetScatterPasses: the others' values stay
+    }
+    if (keep)
     {
       this->Buffers[i].assign(pixels * kPasses[i].Components, 0.0f);
     }

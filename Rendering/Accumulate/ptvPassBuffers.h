@@ -40,6 +40,13 @@ enum PassId
 /// Passes written by the tracer and accumulated; the others are derived from them.
 constexpr int kTracedPassCount = PassDenoised;
 
+/// Whether @a pass is one of the second event's (ScatterDepth, ScatterPosition,
+/// ScatterNormal): kept only when asked for (PassBuffers::SetScatterPasses).
+inline bool IsScatterPass(int pass)
+{
+  return pass >= PassScatterDepth && pass <= PassScatterNormal;
+}
+
 /// Whether @a pass is made by the denoiser (only available with Denoise on).
 inline bool IsDenoiserPass(int pass)
 {
@@ -55,7 +62,8 @@ struct PassInfo
 const PassInfo& GetPassInfo(int pass);
 
 /// The traced passes' storage: one pointer per pass (PassId < kTracedPassCount), each pass
-/// interleaved (GetPassInfo's components per pixel), pixels x fastest.
+/// interleaved (GetPassInfo's components per pixel), pixels x fastest; the scatter passes'
+/// are nullptr when they are not kept.
 struct TracedPassPlanes
 {
   float* Data[kTracedPassCount];
@@ -81,9 +89,12 @@ PTV_HD PTV_INLINE void StoreSample(const TracedPassPlanes& planes, std::size_t p
   planes.Data[PassDepth][pixel] = s.Depth1;
   StoreVec3(planes.Data[PassPosition], pixel, s.Position1);
   StoreVec3(planes.Data[PassNormal], pixel, s.Normal1);
-  planes.Data[PassScatterDepth][pixel] = s.Depth2;
-  StoreVec3(planes.Data[PassScatterPosition], pixel, s.Position2);
-  StoreVec3(planes.Data[PassScatterNormal], pixel, s.Normal2);
+  if (planes.Data[PassScatterDepth])
+  {
+    planes.Data[PassScatterDepth][pixel] = s.Depth2;
+    StoreVec3(planes.Data[PassScatterPosition], pixel, s.Position2);
+    StoreVec3(planes.Data[PassScatterNormal], pixel, s.Normal2);
+  }
   planes.Data[PassCoverage][pixel] = s.Coverage;
   planes.Data[PassFootprint][pixel] = s.Footprint;
 }
@@ -104,9 +115,17 @@ PTV_HD PTV_INLINE PixelSample LoadSample(const TracedPassPlanes& planes, std::si
   s.Depth1 = planes.Data[PassDepth][pixel];
   s.Position1 = LoadVec3(planes.Data[PassPosition], pixel);
   s.Normal1 = LoadVec3(planes.Data[PassNormal], pixel);
-  s.Depth2 = planes.Data[PassScatterDepth][pixel];
-  s.Position2 = LoadVec3(planes.Data[PassScatterPosition], pixel);
-  s.Normal2 = LoadVec3(planes.Data[PassScatterNormal], pixel);
+  if (planes.Data[PassScatterDepth])
+  {
+    s.Depth2 = planes.Data[PassScatterDepth][pixel];
+    s.Position2 = LoadVec3(planes.Data[PassScatterPosition], pixel);
+    s.Normal2 = LoadVec3(planes.Data[PassScatterNormal], pixel);
+  }
+  else
+  {
+    s.Depth2 = 0.0f;
+    s.Position2 = s.Normal2 = MakeVec3(0.0f, 0.0f, 0.0f);
+  }
   s.Coverage = planes.Data[PassCoverage][pixel];
   s.Footprint = planes.Data[PassFootprint][pixel];
   return s;
@@ -153,6 +172,11 @@ public:
   /// Allocate an on-request pass (IsOnRequestPass) of the current size, zeros; its values.
   float* Ensure(int pass);
 
+  /// Keep the scatter passes (IsScatterPass) per pixel, zeros when they appear; without them
+  /// the tracer stores nothing there. Default on.
+  void SetScatterPasses(bool keep);
+  bool GetScatterPasses() const { return this->Scatter; }
+
   int GetWidth() const { return this->Width; }
   int GetHeight() const { return this->Height; }
   /// A pass's values (nullptr for a pass not kept: a derived pass of a PassSet::Traced
@@ -183,7 +207,12 @@ public:
   void Swap(int pass, PassBuffers& other) { this->Buffers[pass].swap(other.Buffers[pass]); }
 
 private:
+  /// (Re)allocate the kept passes, zeros, and free the others; with @a keepValues the passes
+  /// already of this size keep theirs.
+  void Allocate(bool keepValues);
+
   PassSet Set = PassSet::All;
+  bool Scatter = true;
   int Width = 0;
   int Height = 0;
   std::vector<float> Buffers[PassCount];

@@ -152,6 +152,10 @@ void Reprojection::Accumulate(
         const std::size_t c = static_cast<std::size_t>(GetPassInfo(p).Components);
         float* acc = accumulated.Data(p);
         const float* in = frame.Data(p);
+        if (!acc || !in)
+        {
+          continue; // a pass not kept
+        }
         for (std::size_t k = c * begin; k < c * end; ++k)
         {
           acc[k] += (in[k] - acc[k]) * w;

@@ -193,10 +193,12 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
     }
     d.MaxDistance = static_cast<const float*>(in.MaxDistance.Ptr);
   }
+  // The passes @a out keeps (the scatter passes only when asked for; StoreSample skips them).
+  auto kept = [&](int pass) { return out.GetScatterPasses() || !IsScatterPass(pass); };
   std::size_t floats = 0;
   for (int pass = 0; pass < kTracedPassCount; ++pass)
   {
-    floats += pixels * static_cast<std::size_t>(GetPassInfo(pass).Components);
+    floats += kept(pass) ? pixels * static_cast<std::size_t>(GetPassInfo(pass).Components) : 0;
   }
   if (!ok(in.Passes.Fit(floats * sizeof(float)), "pass buffers"))
   {
@@ -206,8 +208,8 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   float* next = static_cast<float*>(in.Passes.Ptr);
   for (int pass = 0; pass < kTracedPassCount; ++pass)
   {
-    planes.Data[pass] = next;
-    next += pixels * static_cast<std::size_t>(GetPassInfo(pass).Components);
+    planes.Data[pass] = kept(pass) ? next : nullptr;
+    next += kept(pass) ? pixels * static_cast<std::size_t>(GetPassInfo(pass).Components) : 0;
   }
   if ((!in.KernelStart && !ok(cudaEventCreate(&in.KernelStart), "event")) ||
     (!in.KernelEnd && !ok(cudaEventCreate(&in.KernelEnd), "event")))
@@ -231,6 +233,10 @@ bool CudaTracer::Trace(const TraceParams& params, unsigned long long volumeVersi
   out.Resize(w, h);
   for (int pass = 0; pass < kTracedPassCount; ++pass)
   {
+    if (!planes.Data[pass])
+    {
+      continue;
+    }
     const std::size_t bytes =
       pixels * static_cast<std::size_t>(GetPassInfo(pass).Components) * sizeof(float);
     if (!ok(cudaMemcpy(out.Data(pass), planes.Data[pass], bytes, cudaMemcpyDeviceToHost),

@@ -121,6 +121,8 @@ public:
    * or a model that cannot be used (the fixed guide reads none).
    */
   bool ReadsChannel(const DenoiserSettings& settings, const std::string& channel);
+  /// Whether it reads a channel whose name starts with @a prefix ("scatter_"), likewise.
+  bool ReadsChannelStartingWith(const DenoiserSettings& settings, const std::string& prefix);
   /// Whether the last Run used GuideNet (else the fixed guide).
   bool GetNetworkActive() const { return this->NetworkActive; }
   /// e.g. "GuideNet <file> (CPUExecutionProvider), 3 levels" or "fixed guide: <why>".

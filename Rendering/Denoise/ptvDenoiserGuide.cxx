@@ -135,6 +135,19 @@ bool Denoiser::ReadsChannel(const DenoiserSettings& settings, const std::string&
 }
 
 //------------------------------------------------------------------------------
+bool Denoiser::ReadsChannelStartingWith(
+  const DenoiserSettings& settings, const std::string& prefix)
+{
+  if (!settings.UseNetwork || !this->EnsureModel(settings))
+  {
+    return false;
+  }
+  const std::vector<std::string>& channels = this->Session.GetInputChannels();
+  return std::any_of(channels.begin(), channels.end(),
+    [&](const std::string& c) { return c.compare(0, prefix.size(), prefix) == 0; });
+}
+
+//------------------------------------------------------------------------------
 bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* passes, int width,
   int height, const DenoiserOverrides& given, float* out, std::string& error, bool& done)
 {

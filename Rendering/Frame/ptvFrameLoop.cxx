@@ -165,6 +165,19 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     return;
   }
   this->LastError.clear();
+  // The scatter passes are kept per pixel only when something reads them; a change of that
+  // starts the accumulation again (the passes just kept would hold no history).
+  const bool scatter = this->KeepsScatterPasses(request);
+  if (scatter != this->Accumulated.GetScatterPasses())
+  {
+    this->ResetAccumulation();
+    for (PassBuffers* buffers :
+      { &this->Frame, &this->Sample, &this->EdgeList, &this->Accumulated })
+    {
+      buffers->SetScatterPasses(scatter);
+    }
+  }
+
   // Compared with the frame that started the accumulation, so slow drifts cannot pile up.
   const auto change = static_cast<FrameSignature::Change>(
     this->Parallel.Agree(static_cast<int>(signature.Compare(this->Signature))));
@@ -218,6 +231,15 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     this->Inputs.GetWorldBounds(), request.Threads, shownAlpha);
   this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth(),
     this->Shown.GetCovered());
+}
+
+//------------------------------------------------------------------------------
+bool FrameLoop::KeepsScatterPasses(const FrameRequest& request)
+{
+  const bool shown = IsScatterPass(FindPass(request.DisplayPass.c_str()));
+  const bool read = request.Denoise && this->Parallel.Shows() &&
+    this->Denoising.ReadsChannelStartingWith(this->SettingsOf(request), "scatter_");
+  return this->Parallel.Agree(request.ScatterPasses || shown || read) != 0;
 }
 
 //------------------------------------------------------------------------------

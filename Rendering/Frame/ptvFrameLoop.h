@@ -75,6 +75,9 @@ struct FrameRequest
   bool ComputeEdgeSamples = false;
   DenoiserSettings Denoiser; ///< ModelFile, UseNetwork, Levels (Threads, UseCuda: here)
   std::string DisplayPass;           ///< "" shows the (converged) radiance
+  /// Keep the ScatterDepth, ScatterPosition and ScatterNormal passes; also kept when
+  /// DisplayPass shows one or the denoiser's model reads one.
+  bool ScatterPasses = false;
   /// A still render: trace frames until the estimated quality of what is shown reaches
   /// StillQuality (dB), or MaximumStillFrames (also capped by MaximumAccumulatedFrames) are
   /// accumulated, or StillTimeBudget seconds (> 0) have passed (said once per budget).
@@ -173,6 +176,9 @@ private:
   /// The still render's loop (after the render's first frame).
   void Refine(const FrameRequest& request, FrameMessages& messages);
   int ShownPass(const FrameRequest& request, FrameMessages& messages);
+  /// Whether this frame keeps the scatter passes (FrameRequest::ScatterPasses); process 0
+  /// decides for everyone.
+  bool KeepsScatterPasses(const FrameRequest& request);
 
   FrameInputs Inputs;
   Ranks Parallel; ///< the processes tracing each frame together (none: this one alone)

@@ -107,9 +107,17 @@ PixelSample Load(const std::vector<const float*>& passes, std::size_t piece, std
   s.Depth1 = get1(PassDepth);
   s.Position1 = get3(PassPosition);
   s.Normal1 = get3(PassNormal);
-  s.Depth2 = get1(PassScatterDepth);
-  s.Position2 = get3(PassScatterPosition);
-  s.Normal2 = get3(PassScatterNormal);
+  if (passes[PassScatterDepth]) // kept
+  {
+    s.Depth2 = get1(PassScatterDepth);
+    s.Position2 = get3(PassScatterPosition);
+    s.Normal2 = get3(PassScatterNormal);
+  }
+  else
+  {
+    s.Depth2 = 0.0f;
+    s.Position2 = s.Normal2 = MakeVec3(0.0f, 0.0f, 0.0f);
+  }
   s.Coverage = get1(PassCoverage);
   s.Footprint = get1(PassFootprint);
   if (pieceFar != far) // another clipping range: its misses move to the result's far

@@ -136,6 +136,10 @@ bool Ranks::GatherFrame(PassBuffers& frame, int passes, const PieceView& piece, 
   const float scale = 1.0f / static_cast<float>(this->Size);
   for (int p = 0; p < passes; ++p)
   {
+    if (!frame.Data(p))
+    {
+      continue; // not kept (the same passes on every process)
+    }
     const std::size_t n = pixels * static_cast<std::size_t>(GetPassInfo(p).Components);
     this->Sum.resize(this->Rank == 0 ? n : 0);
     this->Controller->Reduce(frame.Data(p), this->Sum.data(), static_cast<vtkIdType>(n),
@@ -168,9 +172,14 @@ bool Ranks::CompositeFrame(PassBuffers& frame, int passes, const PieceView& piec
   meta[6] = piece.Far;
   std::vector<double> metas(root ? kMeta * size : 0);
   this->Controller->Gather(meta, metas.data(), kMeta, 0);
-  std::vector<const float*> gathered(kTracedPassCount);
+  std::vector<const float*> gathered(kTracedPassCount, nullptr);
   for (int p = 0; p < passes && p < kTracedPassCount; ++p)
   {
+    if (!frame.Data(p))
+    {
+      std::vector<float>().swap(this->Gathered[p]);
+      continue; // not kept (the same passes on every process)
+    }
     const std::size_t n = pixels * static_cast<std::size_t>(GetPassInfo(p).Components);
     this->Gathered[p].resize(root ? n * size : 0);
     this->Controller->Gather(frame.Data(p), this->Gathered[p].data(), static_cast<vtkIdType>(n), 0);

@@ -134,9 +134,9 @@ class BenchScene(scene.Scene):
     """:class:`pathtracedvolume.scene.Scene` as the benchmarks use it: path traced, Denoise
     off (they denoise the passes themselves) with the Coverage and Footprint passes traced as the
     mapper traces them when it denoises with the shipped model (CoverageMarch,
-    FootprintRays), a view at ``azimuth`` 30 and ``elevation`` 10
-    by default, the mapper's default key light times ``light_intensity``; :meth:`render` starts
-    a fresh accumulation with a seed."""
+    FootprintRays) and every pass kept (ScatterPasses), a view at ``azimuth`` 30 and
+    ``elevation`` 10 by default, the mapper's default key light times ``light_intensity``;
+    :meth:`render` starts a fresh accumulation with a seed."""
 
     def __init__(self, volume: Any, prop: Any, size: Tuple[int, int] = (256, 256),
                  azimuth: float = 30.0, elevation: float = 10.0, threads: int = 0,
@@ -147,6 +147,7 @@ class BenchScene(scene.Scene):
         self.mapper.SetLightIntensity(float(light_intensity))
         self.mapper.GetExpertOptions().CoverageMarchOn()
         self.mapper.GetExpertOptions().FootprintRaysOn()
+        self.mapper.GetExpertOptions().ScatterPassesOn()  # every pass of PASSES
 
     def orbit(self, azimuth: float, elevation: float = 10.0, dolly: float = 1.0) -> None:
         """Another view (:func:`pathtracedvolume.scene.place_camera`)."""

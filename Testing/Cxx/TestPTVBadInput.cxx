@@ -89,6 +89,7 @@ struct Scene
     this->Mapper->SetInputDataObject(input);
     this->Mapper->DenoiseOff();
     this->Mapper->ConvergeStillRendersOff(); // one frame per render
+    this->Mapper->GetExpertOptions()->ScatterPassesOn(); // every traced pass is checked
     this->Mapper->AddObserver(vtkCommand::ErrorEvent, this->Observer);
     this->Mapper->AddObserver(vtkCommand::WarningEvent, this->Observer);
     this->Volume->SetMapper(this->Mapper);

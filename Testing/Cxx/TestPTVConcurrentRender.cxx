@@ -61,6 +61,7 @@ Images RenderScene(int which, int frames, std::atomic<int>* ready)
   mapper->DenoiseOn();
   // model-independent; the network has its own tests
   mapper->GetExpertOptions()->DenoiserUseNetworkOff();
+  mapper->GetExpertOptions()->ScatterPassesOn(); // every pass is compared
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);

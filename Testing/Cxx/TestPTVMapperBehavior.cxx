@@ -152,6 +152,22 @@ void TestPasses()
   s.Window->Render();
   Check(vtkPathTracedVolumeMapper::GetNumberOfPasses() == 18,
     "11 traced + 4 denoiser passes + HistoryLength + DenoisedAlpha + SampleRatio");
+  // The scatter passes are kept only when asked for: an error that says how, and GetPasses
+  // leaves them out.
+  Check(!s.Mapper->GetPass("ScatterNormal", image), "ScatterNormal is not kept by default");
+  Check(errors->CheckErrorMessage("ScatterPasses") == 0, "the error names ScatterPasses");
+  vtkNew<vtkImageData> all;
+  Check(s.Mapper->GetPasses(all) && all->GetPointData()->GetArray("Normal") &&
+      !all->GetPointData()->GetArray("ScatterNormal") &&
+      !all->GetPointData()->GetArray("ScatterDepth"),
+    "GetPasses has Normal but not the scatter passes by default");
+  s.Mapper->SetDisplayPass("ScatterDepth");
+  s.Window->Render();
+  Check(s.Mapper->GetPass("ScatterDepth", image) && s.Mapper->GetAccumulatedFrames() == 1,
+    "DisplayPass ScatterDepth keeps the scatter passes (and starts again)");
+  s.Mapper->SetDisplayPass(nullptr);
+  s.Mapper->GetExpertOptions()->ScatterPassesOn();
+  s.Window->Render();
   for (int i = 0; i < 10; ++i)
   {
     const char* name = vtkPathTracedVolumeMapper::GetPassName(i);

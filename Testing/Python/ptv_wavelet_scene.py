@@ -9,10 +9,13 @@ import numpy as np
 
 def wavelet_scene(size: Tuple[int, int], extent: int = 10, opacity: float = 0.6,
                   background: Sequence[float] = (0.5, 0.5, 0.5), seed: int = 0,
-                  denoise: bool = False) -> Tuple[Any, Any, tuple]:
+                  denoise: bool = False,
+                  scatter_passes: bool = True) -> Tuple[Any, Any, tuple]:
     """(window, mapper, objects to keep alive): the wavelet over [-extent, extent]^3, colour
     blue to yellow and opacity 0 to ``opacity`` over its range, shaded, frame by frame (still
-    renders do not converge), ``size`` = (W, H) pixels."""
+    renders do not converge), ``size`` = (W, H) pixels. With ``scatter_passes`` the mapper
+    keeps every traced pass (the expert option ScatterPasses; the tests read them all, e.g.
+    :func:`set_traced_passes`); off: the mapper's default, no Scatter* passes."""
     import pathtracedvolume.vtkPTVRendering as ptv
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     from vtkmodules.vtkImagingCore import vtkRTAnalyticSource
@@ -37,6 +40,7 @@ def wavelet_scene(size: Tuple[int, int], extent: int = 10, opacity: float = 0.6,
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetSeed(seed)
     mapper.SetDenoise(denoise)
+    mapper.GetExpertOptions().SetScatterPasses(scatter_passes)
     volume = vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)

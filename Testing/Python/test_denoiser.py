@@ -56,6 +56,7 @@ def render_passes(frames: int = 1) -> dict[str, np.ndarray]:
     mapper.DenoiseOff()
     # the camera rays' opacity, as a model with "coverage" needs
     mapper.GetExpertOptions().CoverageMarchOn()
+    mapper.GetExpertOptions().ScatterPassesOn()  # every traced pass (TRACED)
     mapper.GetExpertOptions().SetMaximumAccumulatedFrames(frames)
     volume = vtkVolume()
     volume.SetMapper(mapper)

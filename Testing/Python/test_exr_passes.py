@@ -84,6 +84,7 @@ def render_passes(denoise: bool) -> vtkImageData:
     mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetDenoise(denoise)
     mapper.GetExpertOptions().SetDenoiserUseNetwork(False)
+    mapper.GetExpertOptions().ScatterPassesOn()  # every pass, the Scatter* ones too
     errors = Errors(mapper)
     volume = vtkVolume()
     volume.SetMapper(mapper)

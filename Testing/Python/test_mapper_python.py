@@ -8,6 +8,7 @@ import pytest
 
 import pathtracedvolume.vtkPTVRendering as ptv
 
+from ptv_vtk_messages import observe  # noqa: E402
 from ptv_wavelet_scene import get_pass as wavelet_pass, wavelet_scene  # noqa: E402
 
 W, H = 40, 30
@@ -34,6 +35,50 @@ def test_passes_are_numpy_arrays() -> None:
         assert values.shape in ((W * H,), (W * H, 3)), name
         assert np.isfinite(values).all(), name
     assert get_pass(mapper, "Alpha").max() == 1.0
+
+
+SCATTER = ("ScatterDepth", "ScatterPosition", "ScatterNormal")
+
+
+def test_scatter_passes_are_kept_only_when_asked_for() -> None:
+    """The Scatter* passes are kept only with the expert option ScatterPasses (default off) or
+    a DisplayPass of one: by default GetPass of one fails with an error that names the option and
+    GetPasses leaves them out (Normal is there); turning the option on restarts the accumulation
+    and keeps them, finite and not all 0; a DisplayPass of ScatterDepth keeps it without the
+    option, the same frame bit for bit."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    window, mapper, _ = wavelet_scene((W, H), seed=0, scatter_passes=False)
+    assert not mapper.GetExpertOptions().GetScatterPasses()
+    window.Render()
+    messages = observe(mapper)
+    assert not mapper.GetPass("ScatterNormal", vtkImageData())
+    assert len(messages) == 1 and messages[0].startswith("ErrorEvent"), messages
+    assert "ScatterPasses" in messages[0], messages
+    passes = vtkImageData()
+    assert mapper.GetPasses(passes)
+    assert passes.GetPointData().GetArray("Normal") is not None
+    assert all(passes.GetPointData().GetArray(name) is None for name in SCATTER)
+
+    mapper.GetExpertOptions().ScatterPassesOn()
+    assert mapper.GetExpertOptions().GetScatterPasses()
+    window.Render()
+    assert mapper.GetAccumulatedFrames() == 1  # the accumulation restarted
+    for name in SCATTER:
+        values = get_pass(mapper, name)
+        assert np.isfinite(values).all() and np.abs(values).max() > 0, name
+    assert mapper.GetPasses(passes)
+    assert all(passes.GetPointData().GetArray(name) is not None for name in SCATTER)
+    assert len(messages) == 1, messages
+
+    kept_window, kept, _ = wavelet_scene((W, H), seed=0)  # ScatterPasses on from the start
+    kept_window.Render()
+    shown_window, shown, _ = wavelet_scene((W, H), seed=0, scatter_passes=False)
+    shown.SetDisplayPass("ScatterDepth")
+    shown_window.Render()
+    depth = get_pass(shown, "ScatterDepth")
+    assert np.isfinite(depth).all()
+    np.testing.assert_array_equal(depth, get_pass(kept, "ScatterDepth"))
 
 
 def test_settings_round_trip() -> None:

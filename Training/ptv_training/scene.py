@@ -126,7 +126,8 @@ class Scene:
         ``coverage`` the mapper traces the Coverage pass (CoverageMarch; a reference's
         radiance does not need it, and it changes no other pass), with ``footprint`` the
         Footprint pass (FootprintRays: evaluation views, which the denoiser reads as the
-        mapper's frame loop gives it; it changes no other pass either)."""
+        mapper's frame loop gives it; it changes no other pass either). The mapper keeps every
+        pass (ScatterPasses: the Scatter* passes too, which the EXR files hold)."""
         from pathtracedvolume import vtkPathTracedVolumeMapper
         from pathtracedvolume.presets import find_preset
         from pathtracedvolume.scene import BACKGROUND, place_camera, volume_property
@@ -153,6 +154,7 @@ class Scene:
         mapper.SetDenoise(bool(denoise))
         mapper.GetExpertOptions().SetCoverageMarch(bool(coverage))  # GuideNet's "coverage" channel
         mapper.GetExpertOptions().SetFootprintRays(bool(footprint))  # the denoiser's empty pixels
+        mapper.GetExpertOptions().ScatterPassesOn()  # every pass goes to the training EXRs
         if self.threads:
             mapper.SetNumberOfThreads(int(self.threads))
         volume = vtkVolume()
