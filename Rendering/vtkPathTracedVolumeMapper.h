@@ -198,7 +198,8 @@ public:
   void SetController(vtkMultiProcessController* controller);
   vtkMultiProcessController* GetController();
   /// Each process holds its own piece (PieceExtent plus ghost layers) of the volume whose
-  /// extent is WholeExtent; process 0 composites the pieces. Default off.
+  /// extent is WholeExtent; the processes composite the pieces into process 0's frame.
+  /// Default off.
   vtkSetMacro(DistributedVolume, vtkTypeBool);
   vtkGetMacro(DistributedVolume, vtkTypeBool);
   vtkBooleanMacro(DistributedVolume, vtkTypeBool);

@@ -173,8 +173,9 @@ public:
    * the same image as one rank with no seam between pieces). A larger one, or 0, keeps
    * ParaView's split into one piece per rank, with GhostLayers around each piece
    * (vtkPathTracedVolumeMapper::DistributedVolume): each rank traces camera rays through its
-   * piece, shadow and environment rays through the ghost layers as well, and rank 0 composites
-   * the pieces in view order, then denoises and draws the whole frame. A volume too small to give
+   * piece, shadow and environment rays through the ghost layers as well, the ranks composite
+   * the pieces in view order, each a share of the pixels, and rank 0 denoises and draws the
+   * whole frame. A volume too small to give
    * every rank a piece is replicated whatever the limit. Default: 4096 MB.
    */
   void SetReplicateVolumeLimit(double megabytes);

@@ -113,7 +113,7 @@ void FrameLoop::TraceEdges(const FrameRequest& request, unsigned int firstSample
   if (pieces)
   {
     // Every piece traces the extra samples through its part of the same rays (the same
-    // jitter, march offset and stream; its own events, PieceStream), and process 0 composites
+    // jitter, march offset and stream; its own events, PieceStream), and the processes composite
     // them sample by sample, like the frame's own samples (Trace): the edge pixels of the
     // composited frame, which process 0 found, get the samples one process would trace.
     this->Parallel.Agree(this->EdgePixels);

@@ -157,51 +157,6 @@ bool Ranks::GatherFrame(PassBuffers& frame, int passes, const PieceView& piece, 
 }
 
 //------------------------------------------------------------------------------
-bool Ranks::CompositeFrame(PassBuffers& frame, int passes, const PieceView& piece, int threads)
-{
-  static_assert(sizeof(this->Gathered) / sizeof(this->Gathered[0]) == kTracedPassCount,
-    "one gather buffer per traced pass");
-  const std::size_t pixels =
-    static_cast<std::size_t>(frame.GetWidth()) * static_cast<std::size_t>(frame.GetHeight());
-  const std::size_t size = static_cast<std::size_t>(this->Size);
-  const bool root = this->Rank == 0;
-  // Each piece's box and far distance.
-  constexpr int kMeta = 7;
-  double meta[kMeta];
-  std::copy(piece.Box.begin(), piece.Box.end(), meta);
-  meta[6] = piece.Far;
-  std::vector<double> metas(root ? kMeta * size : 0);
-  this->Controller->Gather(meta, metas.data(), kMeta, 0);
-  std::vector<const float*> gathered(kTracedPassCount, nullptr);
-  for (int p = 0; p < passes && p < kTracedPassCount; ++p)
-  {
-    if (!frame.Data(p))
-    {
-      std::vector<float>().swap(this->Gathered[p]);
-      continue; // not kept (the same passes on every process)
-    }
-    const std::size_t n = pixels * static_cast<std::size_t>(GetPassInfo(p).Components);
-    this->Gathered[p].resize(root ? n * size : 0);
-    this->Controller->Gather(frame.Data(p), this->Gathered[p].data(), static_cast<vtkIdType>(n), 0);
-    gathered[p] = this->Gathered[p].data();
-  }
-  if (!root)
-  {
-    return false;
-  }
-  std::vector<PieceBox> boxes(size);
-  std::vector<float> fars(size);
-  for (std::size_t r = 0; r < size; ++r)
-  {
-    std::copy(metas.begin() + kMeta * r, metas.begin() + kMeta * r + 6, boxes[r].begin());
-    fars[r] = static_cast<float>(metas[kMeta * r + 6]);
-  }
-  const std::vector<int> order = ViewOrder(boxes, piece.Eye, piece.Dir, piece.Parallel);
-  CompositePieces(gathered, pixels, order, fars, piece.Far, threads, frame);
-  return true;
-}
-
-//------------------------------------------------------------------------------
 int Ranks::Agree(int value)
 {
   if (this->IsParallel())

@@ -10,7 +10,8 @@
  * it that process's frame (the same estimator, the same image up to float rounding).
  * Distributed, every process traces the frame's camera rays through its own piece only, with
  * its own random numbers after the ray (PieceStream), and GatherFrame composites the pieces'
- * frames in view order on process 0 (ptvPieces.h): one frame of the whole volume. Process 0
+ * frames in view order (ptvPieces.h), each process a share of the pixels, into process 0's
+ * frame: one frame of the whole volume. Process 0
  * alone accumulates, denoises and shows; the others only trace. Decisions (restart, trace, when
  * a still render stops) are process 0's, broadcast (Agree), so that every process makes the
  * same collective calls in the same order. Without a controller, or with one process, every
@@ -89,13 +90,16 @@ public:
    */
   bool GatherFrame(PassBuffers& frame, int passes, const PieceView& piece, int threads);
 
+  /// Bytes this process received from the others in the last distributed GatherFrame.
+  std::size_t GetLastBytesReceived() const { return this->LastBytesReceived; }
+
   /// Process 0's @a value on every process (collective).
   int Agree(int value);
   /// Process 0's @a values on every process, in place (collective).
   void Agree(std::vector<std::uint32_t>& values);
 
 private:
-  /// GatherFrame for distributed pieces.
+  /// GatherFrame for distributed pieces: composited by direct send (ptvRanksComposite.cxx).
   bool CompositeFrame(PassBuffers& frame, int passes, const PieceView& piece, int threads);
 
   vtkSmartPointer<vtkMultiProcessController> Controller;
@@ -104,7 +108,12 @@ private:
   int LocalRanks = 0; ///< processes on this host; 0: not learnt yet
   bool Distributed = false;
   std::vector<float> Sum;
-  std::vector<float> Gathered[kTracedPassCount]; ///< distributed: every piece's passes (process 0)
+  /// Distributed: every piece's share of each pass, this process's share composited, and the
+  /// buffers sent and received.
+  std::vector<float> Gathered[kTracedPassCount];
+  PassBuffers Composited{ PassSet::Traced };
+  std::vector<float> Outgoing, Incoming;
+  std::size_t LastBytesReceived = 0;
 };
 }
 

@@ -9,7 +9,12 @@
 //    and extent, and ok only when every process is ok; AllTrue likewise;
 //  - Agree: process 0's value everywhere;
 //  - GatherFrame: process 0 holds the mean of the processes' traced passes (exactly, for values
-//    that are exact in float), and only it keeps the frame.
+//    that are exact in float), and only it keeps the frame;
+//  - distributed GatherFrame (direct send, issue #62): process 0's frame is bit for bit the
+//    pieces composited in view order on one process (CompositePieces of every piece, what the
+//    gather on process 0 did), with and without the scatter passes, on an image whose pixels
+//    do not divide among the processes; every process receives at most 2 images' passes
+//    (process 0: its share of every piece and the others' composited shares).
 #include "ptvRanks.h"
 #include "ptvTestCheck.h"
 
@@ -17,6 +22,7 @@
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -44,6 +50,110 @@ void TestAlone(ptv::Ranks& ranks, const std::string& label)
       frame.Data(ptv::PassAlpha)[3] == 0.25f,
     label + ": GatherFrame keeps the frame");
 }
+}
+
+/// Piece @a rank's frame of @a width x @a height: reproducible samples, hits and misses.
+void PieceFrame(int rank, int width, int height, float far, ptv::PassBuffers& frame)
+{
+  frame.Resize(width, height);
+  std::mt19937 rng(1234u + static_cast<unsigned int>(rank));
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  auto vec = [&]() { return ptv::MakeVec3(u(rng), u(rng), u(rng)); };
+  for (int i = 0; i < width * height; ++i)
+  {
+    ptv::PixelSample s;
+    const bool hit = u(rng) < 0.7f;
+    s.Alpha = hit ? u(rng) : 0.f;
+    s.Radiance = hit ? vec() : ptv::MakeVec3(0.f, 0.f, 0.f);
+    s.Albedo = vec();
+    s.Depth1 = hit ? far * u(rng) * 0.5f : far;
+    s.Position1 = vec();
+    s.Normal1 = vec();
+    s.Depth2 = hit ? far * u(rng) * 0.9f : far;
+    s.Position2 = vec();
+    s.Normal2 = vec();
+    s.Coverage = s.Alpha;
+    s.Footprint = hit ? 1.f : 0.f;
+    frame.Store(i, s);
+  }
+}
+
+/// Distributed GatherFrame against the pieces composited on one process.
+void TestComposite(ptv::Ranks& ranks, bool scatter, const std::string& label)
+{
+  const int r = ranks.GetRank(), n = ranks.GetSize();
+  const int width = 7, height = 5; // 35 pixels: shares of 17 and 18 (2), 8 and 9 (4), 4 and 5 (8)
+  const float far = 100.f;
+  std::vector<ptv::PieceBox> boxes(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k)
+  {
+    boxes[k] = { { 10.0 * k, 10.0 * k + 9, 0, 9, 0, 9 } };
+  }
+  ptv::PieceView piece;
+  piece.Box = boxes[r];
+  piece.Eye[0] = -100;
+  piece.Eye[1] = piece.Eye[2] = 5;
+  piece.Far = far;
+  ptv::PassBuffers frame(ptv::PassSet::Traced);
+  frame.SetScatterPasses(scatter);
+  PieceFrame(r, width, height, far, frame);
+  ranks.SetDistributed(true);
+  const bool keeps = ranks.GatherFrame(frame, ptv::kTracedPassCount, piece, 1);
+  ranks.SetDistributed(false);
+  Check(keeps == (r == 0), label + ": only process 0 keeps the composited frame");
+  std::size_t floats = 0;
+  for (int p = 0; p < ptv::kTracedPassCount; ++p)
+  {
+    floats += frame.Data(p) ? static_cast<std::size_t>(ptv::GetPassInfo(p).Components) : 0;
+  }
+  const std::size_t image = sizeof(float) * floats * static_cast<std::size_t>(width * height);
+  Check(ranks.GetLastBytesReceived() > 0 && ranks.GetLastBytesReceived() <= 2 * image,
+    label + ": received " + std::to_string(ranks.GetLastBytesReceived()) + " bytes, at most 2 x " +
+      std::to_string(image));
+  if (r != 0)
+  {
+    return;
+  }
+  std::vector<ptv::PassBuffers> pieces(
+    static_cast<std::size_t>(n), ptv::PassBuffers(ptv::PassSet::Traced));
+  std::vector<std::vector<float>> all(ptv::kTracedPassCount);
+  std::vector<const float*> gathered(ptv::kTracedPassCount, nullptr);
+  for (int k = 0; k < n; ++k)
+  {
+    pieces[k].SetScatterPasses(scatter);
+    PieceFrame(k, width, height, far, pieces[k]);
+    for (int p = 0; p < ptv::kTracedPassCount; ++p)
+    {
+      if (const float* d = pieces[k].Data(p))
+      {
+        all[p].insert(all[p].end(), d, d + ptv::GetPassInfo(p).Components * width * height);
+      }
+    }
+  }
+  for (int p = 0; p < ptv::kTracedPassCount; ++p)
+  {
+    gathered[p] = all[p].empty() ? nullptr : all[p].data();
+  }
+  const std::vector<int> order = ptv::ViewOrder(boxes, piece.Eye, piece.Dir, false);
+  ptv::PassBuffers expected(ptv::PassSet::Traced);
+  expected.SetScatterPasses(scatter);
+  expected.Resize(width, height);
+  ptv::CompositePieces(gathered, static_cast<std::size_t>(width * height), order,
+    std::vector<float>(static_cast<std::size_t>(n), far), far, 1, expected);
+  bool same = true;
+  for (int p = 0; p < ptv::kTracedPassCount; ++p)
+  {
+    const float* a = frame.Data(p);
+    const float* b = expected.Data(p);
+    same = same && (a == nullptr) == (b == nullptr) &&
+      (a == nullptr) == (!scatter && ptv::IsScatterPass(p));
+    for (int i = 0; a && b && i < ptv::GetPassInfo(p).Components * width * height; ++i)
+    {
+      same = same && a[i] == b[i];
+    }
+  }
+  Check(same,
+    label + ": the composited frame is the pieces composited on one process, bit for bit");
 }
 
 /// The checks with @a controller's processes (also called by the MPI driver); the number of
@@ -112,6 +222,8 @@ int TestPTVRanksWith(vtkMultiProcessController* controller)
     }
     Check(mean, label + ": the gathered frame is the mean of the processes' frames");
   }
+  TestComposite(ranks, true, label + ", split");
+  TestComposite(ranks, false, label + ", split without scatter passes");
   return failures;
 }
 

@@ -1,12 +1,67 @@
-// TestPTVRanks.cxx's checks across processes: run under mpirun -np 2 (PTV.MPI.TestPTVRanks).
-// Every process runs them; process 0 reports the total of failures and sets the exit code.
+// TestPTVRanks.cxx's checks across processes: run under mpirun -np 2, 4, 8
+// (PTV.MPI.TestPTVRanks*). Every process runs them; process 0 reports the total of failures and
+// sets the exit code. With --traffic SIZE REPEATS it is instead the split composite's benchmark
+// (Testing/Benchmarks/split_composite.py): every process composites a SIZE x SIZE frame of its
+// piece REPEATS times; process 0 prints one JSON line with each process's bytes received per
+// composite and the median composite time in milliseconds.
+#include "ptvRanks.h"
+
 #include "vtkMPIController.h"
 #include "vtkNew.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
+#include <string>
+#include <vector>
 
 int TestPTVRanksWith(vtkMultiProcessController* controller);
+void PieceFrame(int rank, int width, int height, float far, ptv::PassBuffers& frame);
+
+namespace
+{
+int Traffic(vtkMultiProcessController* controller, int size, int repeats)
+{
+  ptv::Ranks ranks;
+  ranks.SetController(controller);
+  ranks.SetDistributed(true);
+  const int r = ranks.GetRank(), n = ranks.GetSize();
+  ptv::PieceView piece;
+  piece.Box = { { 10.0 * r, 10.0 * r + 9, 0, 9, 0, 9 } };
+  piece.Eye[0] = -100;
+  piece.Eye[1] = piece.Eye[2] = 5;
+  piece.Far = 100.f;
+  ptv::PassBuffers frame(ptv::PassSet::Traced);
+  frame.SetScatterPasses(false); // the default passes
+  std::vector<double> ms;
+  for (int k = 0; k < repeats; ++k)
+  {
+    PieceFrame(r, size, size, piece.Far, frame); // the composite overwrites process 0's
+    controller->Barrier();
+    const auto start = std::chrono::steady_clock::now();
+    ranks.GatherFrame(frame, ptv::kTracedPassCount, piece, 1);
+    controller->Barrier();
+    ms.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  const double bytes = static_cast<double>(ranks.GetLastBytesReceived());
+  std::vector<double> all(static_cast<std::size_t>(n));
+  controller->Gather(&bytes, all.data(), 1, 0);
+  if (r == 0)
+  {
+    std::cout << "{\"ranks\": " << n << ", \"size\": " << size << ", \"median_ms\": "
+              << ms[ms.size() / 2] << ", \"bytes_received\": [";
+    for (int k = 0; k < n; ++k)
+    {
+      std::cout << (k ? ", " : "") << all[k];
+    }
+    std::cout << "]}" << std::endl;
+  }
+  return 0;
+}
+}
 
 int main(int argc, char* argv[])
 {
@@ -17,6 +72,12 @@ int main(int argc, char* argv[])
     std::cerr << "FAILED: run under mpirun with at least 2 processes\n";
     controller->Finalize();
     return EXIT_FAILURE;
+  }
+  if (argc == 4 && std::string(argv[1]) == "--traffic")
+  {
+    Traffic(controller, std::max(std::atoi(argv[2]), 1), std::max(std::atoi(argv[3]), 1));
+    controller->Finalize();
+    return EXIT_SUCCESS;
   }
   const int mine = TestPTVRanksWith(controller);
   int total = 0;
