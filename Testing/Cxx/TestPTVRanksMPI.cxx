@@ -3,7 +3,8 @@
 // sets the exit code. With --traffic SIZE REPEATS it is instead the split composite's benchmark
 // (Testing/Benchmarks/split_composite.py): every process composites a SIZE x SIZE frame of its
 // piece REPEATS times; process 0 prints one JSON line with each process's bytes received per
-// composite and the median composite time in milliseconds.
+// composite and the median composite time in milliseconds. With --giant-split it runs
+// TestPTVSplitGiantVolume.cxx instead (a 1024^3 16-bit volume split across the processes).
 #include "ptvRanks.h"
 
 #include "vtkMPIController.h"
@@ -17,6 +18,7 @@
 #include <vector>
 
 int TestPTVRanksWith(vtkMultiProcessController* controller);
+int TestPTVSplitGiantVolume(vtkMultiProcessController* controller);
 void PieceFrame(int rank, int width, int height, float far, ptv::PassBuffers& frame);
 
 namespace
@@ -79,7 +81,8 @@ int main(int argc, char* argv[])
     controller->Finalize();
     return EXIT_SUCCESS;
   }
-  const int mine = TestPTVRanksWith(controller);
+  const bool giant = argc == 2 && std::string(argv[1]) == "--giant-split";
+  const int mine = giant ? TestPTVSplitGiantVolume(controller) : TestPTVRanksWith(controller);
   int total = 0;
   controller->AllReduce(&mine, &total, 1, vtkCommunicator::SUM_OP);
   if (controller->GetLocalProcessId() == 0)
