@@ -47,6 +47,48 @@ bool DescribeTensor(const Ort::TypeInfo& info, const char* what, std::vector<int
   }
   return true;
 }
+
+/// Rows an output pixel of a "ptv.architecture" network depends on beyond its own
+/// (kernel // 2 + kernel2 // 2 for its two convolutions; kernel2 defaults to kernel, hidden 0 is
+/// one convolution), or -1 when it is not known or not local (a context branch pools regions).
+int ReceptiveHalo(const std::string& architecture)
+{
+  int kernel = -1, kernel2 = -1, hidden = -1, context = 0;
+  std::stringstream items(architecture);
+  std::string item;
+  while (std::getline(items, item, ','))
+  {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+    {
+      return -1;
+    }
+    const std::string key = item.substr(0, eq);
+    const int value = std::atoi(item.c_str() + eq + 1);
+    if (key == "kernel")
+    {
+      kernel = value;
+    }
+    else if (key == "kernel2")
+    {
+      kernel2 = value;
+    }
+    else if (key == "hidden")
+    {
+      hidden = value;
+    }
+    else if (key == "context")
+    {
+      context = value;
+    }
+  }
+  if (kernel < 1 || hidden < 0 || context != 0)
+  {
+    return -1;
+  }
+  kernel2 = kernel2 < 1 ? kernel : kernel2;
+  return kernel / 2 + (hidden > 0 ? kernel2 / 2 : 0);
+}
 }
 
 struct GuideNetSession::Internals
@@ -60,6 +102,7 @@ struct GuideNetSession::Internals
   std::vector<int64_t> OutputShape; // idem
   std::array<int64_t, 4> RunInputShape{};
   std::array<int64_t, 4> RunOutputShape{};
+  std::vector<float> TileIn, TileOut; ///< a band of rows (Run in bands)
 };
 
 //------------------------------------------------------------------------------
@@ -130,6 +173,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   std::vector<std::string> problems;
   GuideNetMetadata meta;
   int outputChannels = 0;
+  int halo = -1;
   std::string provider = CpuProvider;
   try
   {
@@ -191,6 +235,8 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
       return true;
     };
     meta = ReadGuideNetMetadata(lookup, problems);
+    std::string architecture;
+    halo = lookup("ptv.architecture", architecture) ? ReceptiveHalo(architecture) : -1;
     const std::vector<std::string>& channels = meta.Channels;
     const std::vector<std::pair<int, int>>& levels = meta.Levels;
 
@@ -303,6 +349,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
   this->GuideStride = meta.GuideStride;
   this->DefaultLevels = meta.DefaultLevels;
   this->OutputChannels = outputChannels;
+  this->TileHalo = halo;
   return true;
 }
 
@@ -335,6 +382,50 @@ bool GuideNetSession::Run(
       return false;
     }
   }
+  const std::size_t rowPixels = static_cast<std::size_t>(w);
+  if (this->TileHalo < 0 || in.InputShape[2] >= 0 ||
+    static_cast<std::size_t>(h) * rowPixels <= this->TilePixels)
+  {
+    return this->RunRows(features, height, width, out, error);
+  }
+  // Bands of rows, each with the rows its convolutions reach: the same output, run by run.
+  const int rows = static_cast<int>(std::max<std::size_t>(this->TilePixels / rowPixels, 1));
+  const std::size_t plane = static_cast<std::size_t>(h) * rowPixels;
+  for (int t0 = 0; t0 < height; t0 += rows)
+  {
+    const int t1 = std::min(t0 + rows, height);
+    const int in0 = std::max(t0 - this->TileHalo, 0);
+    const int in1 = std::min(t1 + this->TileHalo, height);
+    const std::size_t band = static_cast<std::size_t>(in1 - in0) * rowPixels;
+    in.TileIn.resize(static_cast<std::size_t>(c) * band);
+    in.TileOut.resize(static_cast<std::size_t>(o) * band);
+    for (int64_t k = 0; k < c; ++k)
+    {
+      const float* from = features + k * plane + in0 * rowPixels;
+      std::copy(from, from + band, in.TileIn.data() + k * band);
+    }
+    if (!this->RunRows(in.TileIn.data(), in1 - in0, width, in.TileOut.data(), error))
+    {
+      return false;
+    }
+    for (int64_t k = 0; k < o; ++k)
+    {
+      const float* from = in.TileOut.data() + k * band + (t0 - in0) * rowPixels;
+      std::copy(from, from + (t1 - t0) * rowPixels, out + k * plane + t0 * rowPixels);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::RunRows(
+  const float* features, int height, int width, float* out, std::string& error)
+{
+  Internals& in = *this->Impl;
+  const int64_t c = this->GetNumberOfInputChannels();
+  const int64_t o = this->GetNumberOfOutputs();
+  const int64_t h = height;
+  const int64_t w = width;
   in.RunInputShape = { 1, c, h, w };
   in.RunOutputShape = { 1, o, h, w };
   try

@@ -19,6 +19,7 @@
 #ifndef ptvGuideNetSession_h
 #define ptvGuideNetSession_h
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <utility>
@@ -59,6 +60,16 @@ public:
    */
   bool Run(const float* features, int height, int width, float* out, std::string& error);
 
+  /**
+   * Above this many network pixels (default 2^17) Run goes in bands of rows, each with the
+   * rows the network's convolutions reach (GetTileHalo), so that its activations need memory
+   * for a band, not the image; the output is the whole image's.
+   */
+  void SetTilePixels(std::size_t pixels) { this->TilePixels = pixels; }
+  /// Rows a band of Run reaches beyond itself: from "ptv.architecture" (kernel // 2 +
+  /// kernel2 // 2); -1 (the image in one run) for a model without it or with a context branch.
+  int GetTileHalo() const { return this->TileHalo; }
+
   int GetNumberOfInputChannels() const { return static_cast<int>(this->Channels.size()); }
   const std::vector<std::string>& GetInputChannels() const { return this->Channels; }
   int GetNumberOfLevels() const { return static_cast<int>(this->Levels.size()); }
@@ -89,6 +100,9 @@ public:
   static std::string GetRuntimeVersion();
 
 private:
+  /// One ONNX Runtime run on @a height rows (Run's checks done).
+  bool RunRows(const float* features, int height, int width, float* out, std::string& error);
+
   struct Internals;
   std::unique_ptr<Internals> Impl;
   int NumberOfThreads = 0;
@@ -103,6 +117,8 @@ private:
   int OutputChannels = 0;
   int GuideStride = 1;
   int DefaultLevels = 0;
+  int TileHalo = -1;
+  std::size_t TilePixels = std::size_t(1) << 17;
 };
 }
 

@@ -10,7 +10,9 @@
 //  - 1 and 2 threads, and the portable row kernel, agree (1e-6);
 //  - an unknown channel and a missing pass are errors naming the channel.
 // GuideNetSession on the shipped model: its metadata (known channels, 2L - 1 outputs or more,
-// a stride >= 1) and one run on zero features: finite guides in [0, 1]; a missing file, a text
+// a stride >= 1) and one run on zero features: finite guides in [0, 1]; run in bands of rows
+// (issue #62: a big image's activations), the same output as one run within 1e-6 (the bands
+// reach 2 rows beyond themselves, the model's two 3 x 3 convolutions); a missing file, a text
 // file and a run without a model are errors naming the problem.
 #include "ptvDataDirectory.h"
 #include "ptvFeatures.h"
@@ -257,6 +259,31 @@ void TestGuideNetSession(const std::string& temp)
     guides = guides && std::isfinite(out[i]) && out[i] >= 0.f && out[i] <= 1.f;
   }
   Check(guides, "the guides are finite and in [0, 1]");
+
+  // In bands of rows (what a big image does): the same output as one run.
+  Check(session.GetTileHalo() == 2, "the shipped model's two 3x3 convolutions reach 2 rows");
+  const int bh = 37, bw = 23;
+  std::mt19937 rng(62);
+  std::uniform_real_distribution<float> u(-1.f, 2.f);
+  std::vector<float> noisy(session.GetNumberOfInputChannels() * bh * bw);
+  for (float& f : noisy)
+  {
+    f = u(rng);
+  }
+  std::vector<float> whole(session.GetNumberOfOutputs() * bh * bw, -1.f);
+  std::vector<float> banded(whole.size(), -2.f);
+  const bool ran = session.Run(noisy.data(), bh, bw, whole.data(), error);
+  session.SetTilePixels(5 * bw); // bands of 5 rows, the last of 2
+  const bool ranBands = session.Run(noisy.data(), bh, bw, banded.data(), error);
+  session.SetTilePixels(std::size_t(1) << 17);
+  float worst = 0.f;
+  for (std::size_t i = 0; i < whole.size(); ++i)
+  {
+    worst = std::max(worst, std::abs(whole[i] - banded[i]));
+  }
+  Check(ran && ranBands && worst <= 1e-6f,
+    "bands of 5 rows give the whole run's output (largest difference " + std::to_string(worst) +
+      ")");
 
   ptv::GuideNetSession other;
   Check(!other.Load("/nonexistent/guidenet.onnx", error) && !other.IsLoaded() &&
