@@ -220,6 +220,10 @@ PTV_HD PTV_INLINE float SampleTrilinear(const VolumeGrid& g, Vec3 p)
   {
     return BlendCorners(LoadCorners(static_cast<const float*>(g.Scalars), c), c);
   }
+  if (g.Type == kScalarUInt16) // CT's own type: inline as well
+  {
+    return BlendCorners(LoadCorners(static_cast<const std::uint16_t*>(g.Scalars), c), c);
+  }
   return BlendCorners(LoadIntegerCorners(g, c), c);
 }
 
