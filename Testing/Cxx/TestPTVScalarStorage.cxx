@@ -15,6 +15,7 @@
 #include "ptvFrameInputs.h"
 #include "ptvScalarChannel.h"
 #include "ptvTestCheck.h"
+#include "ptvTestMemory.h"
 #include "ptvTestScene.h"
 
 #include "vtkDoubleArray.h"
@@ -218,23 +219,6 @@ void BigVolumeEndToEnd()
   Check(fromShorts == fromDoubles, "unsigned 16-bit in place renders as its float copy");
 }
 
-/// A /proc/self/status field (VmRSS, VmHWM) in bytes; 0 where it cannot be read.
-double StatusBytes(const std::string& field)
-{
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  double kib = 0.0;
-  while (status >> key)
-  {
-    if (key == field + ":")
-    {
-      status >> kib;
-      return 1024.0 * kib;
-    }
-    status.ignore(1 << 12, '\n');
-  }
-  return 0.0;
-}
 
 void GiantVolumeOneRank()
 {
@@ -257,10 +241,7 @@ void GiantVolumeOneRank()
   AnalyticScene s(64);
   ShowRamp(s, shorts, side, side, side, 3000, 0.8);
   const double held = StatusBytes("VmRSS");
-  {
-    std::ofstream reset("/proc/self/clear_refs");
-    reset << "5"; // VmHWM := VmRSS
-  }
+  ResetPeakMemory();
   s.Window->Render();
   const double extra = StatusBytes("VmHWM") - held;
   const std::vector<float> alpha = s.Pass("Alpha");

@@ -7,6 +7,7 @@
 // process renders its 1 GiB piece with less than 512 MiB of extra peak memory (the piece read in
 // place; its float copy alone would be 2 GiB).
 #include "ptvTestCheck.h"
+#include "ptvTestMemory.h"
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -26,30 +27,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <string>
-
-namespace
-{
-/// A /proc/self/status field (VmRSS, VmHWM) in bytes; 0 where it cannot be read.
-double StatusBytes(const std::string& field)
-{
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  double kib = 0.0;
-  while (status >> key)
-  {
-    if (key == field + ":")
-    {
-      status >> kib;
-      return 1024.0 * kib;
-    }
-    status.ignore(1 << 12, '\n');
-  }
-  return 0.0;
-}
-}
 
 /// The checks on this process; the number of failures.
 int TestPTVSplitGiantVolume(vtkMultiProcessController* controller)
@@ -117,10 +96,7 @@ int TestPTVSplitGiantVolume(vtkMultiProcessController* controller)
   window->AddRenderer(renderer);
 
   const double held = StatusBytes("VmRSS");
-  {
-    std::ofstream reset("/proc/self/clear_refs");
-    reset << "5"; // VmHWM := VmRSS
-  }
+  ResetPeakMemory();
   window->Render();
   const double extra = StatusBytes("VmHWM") - held;
   std::cout << label << ": piece z " << z0 << "-" << z1 << ", " << held / 1048576.0
