@@ -146,7 +146,8 @@ public:
   ///@}
 
   /**
-   * Write every render pass of the current frame (vtkPathTracedVolumeMapper::GetPasses()) to
+   * Write every kept render pass of the current frame (vtkPathTracedVolumeMapper::GetPasses():
+   * the Scatter* passes only with the mapper's expert option ScatterPasses) to
    * PassesFileName as one multi-channel float EXR (vtkPTVEXRPassWriter: atomic, conventional
    * channel names). Errors (no file name, nothing rendered yet, unwritable path) are reported
    * with vtkErrorMacro and return false.
