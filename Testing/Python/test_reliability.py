@@ -189,6 +189,46 @@ def test_interrupted_generate_resumes(tmp_path: Path, volume_path) -> None:
     assert exr_io.verify_view_file(damaged, size=(16, 16))[0]
 
 
+def test_generate_with_its_own_input_sample_counts(tmp_path: Path, volume_path) -> None:
+    import pathtracedvolume.vtkPTVRendering  # noqa: F401
+    from ptv_training import data, generate
+    volume_path("head")
+    out = tmp_path / "counts"
+    cmd = _generate_cmd(out)
+    cmd[cmd.index("--views") + 1] = "1"
+    cmd += ["--val-views", "0"]
+    done = subprocess.run(cmd + ["--input-spp", "1,4,16"], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    manifest = json.loads((out / "manifest.json").read_text())
+    view = manifest["views"][0]["view"]
+    assert view["input_spp"] == [1, 4, 16] and manifest["parameters"]["input_spp"] == [1, 4, 16]
+    assert exr_io.verify_view_file(out / "head_000.exr", view, (16, 16)) == (True, "")
+    read = exr_io.read_view(out / "head_000.exr")
+    assert sorted(read["inputs"]) == [1, 4, 16]
+    one, sixteen = read["inputs"][1]["Radiance"], read["inputs"][16]["Radiance"]
+    assert one.shape == sixteen.shape == (16, 16, 3) and not np.array_equal(one, sixteen)
+    # The 16-spp input and the 16-spp baseline are one accumulation of one seed.
+    np.testing.assert_array_equal(sixteen, read["spp16"])
+    passes = data.sample_passes(read, out / "head_000.exr", 4)
+    assert np.all(passes["HistoryLength"] == 4)  # the history channel sees 1/4
+    # Only the counts differ from a default view: the same seeds, camera and transfer function.
+    h = generate.dataset_histogram("head")
+    default = generate.random_view_parameters("head", 0, 2023, 16, 4, h)
+    assert {k: v for k, v in default.items() if k != "input_spp"} == \
+        {k: v for k, v in view.items() if k != "input_spp"}
+    # A file missing one count's passes is incomplete.
+    channels, header = exr_io.read_exr(out / "head_000.exr")
+    partial = tmp_path / "partial.exr"
+    exr_io.write_exr(partial, {k: v for k, v in channels.items() if not k.startswith("spp16.")},
+                     {exr_io.VIEW_ATTRIBUTE: json.dumps(view)})
+    ok, why = exr_io.verify_view_file(partial)
+    assert not ok and why.startswith("missing channels"), why
+    for bad in ("2,4", "1,4,4", "1,x"):
+        refused = subprocess.run(cmd + ["--input-spp", bad], capture_output=True, text=True)
+        assert refused.returncode == 2 and "--input-spp" in refused.stderr, refused.stderr
+
+
 def test_atomic_writes_keep_the_old_file_until_the_new_one_is_complete(tmp_path: Path) -> None:
     """pathtracedvolume.atomic, used by every Python writer of the project (views, checkpoints,
     models, cards, benchmark results, report pages and charts, presets)."""

@@ -196,7 +196,9 @@ def verify_view_file(path: str | os.PathLike, expected_view: Optional[Mapping] =
         channels, header = read_exr(path)
     except Exception as exc:  # noqa: BLE001 -- any unreadable file is "not ok"
         return False, f"unreadable: {exc}"
-    missing = [c for c in channel_names() if c not in channels]
+    view = expected_view if expected_view is not None else view_attribute(header)
+    spps = (view or {}).get("input_spp", INPUT_SPP)
+    missing = [c for c in channel_names(spps) if c not in channels]
     if missing:
         return False, f"missing channels {missing[:4]}..."
     shapes = {v.shape for v in channels.values()}
@@ -224,12 +226,13 @@ def read_view(path: str | os.PathLike) -> Dict[str, object]:
         return np.ascontiguousarray(np.stack([channels[n][::-1] for n in names], axis=-1))
 
     inputs: Dict[int, Dict[str, np.ndarray]] = {}
-    for spp in INPUT_SPP:
+    view = view_attribute(header)
+    for spp in (view or {}).get("input_spp", INPUT_SPP):
         prefix = spp_prefix(spp)
         if prefix + "R" not in channels:
             continue
         inputs[spp] = unpack_passes(channels, prefix)
-    out: Dict[str, object] = {"inputs": inputs, "view": view_attribute(header)}
+    out: Dict[str, object] = {"inputs": inputs, "view": view}
     for key, prefix in RADIANCE_IMAGES.items():
         out[key] = stack(prefix + c for c in "RGB")
     return out

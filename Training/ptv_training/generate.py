@@ -84,20 +84,22 @@ def _rng(seed: int, dataset: str, index: int, stream: int = 0) -> np.random.Gene
     return np.random.default_rng(int.from_bytes(key[:8], "little"))
 
 
-def render_fields(rng: np.random.Generator, size: int, reference_spp: int) -> Dict[str, Any]:
+def render_fields(rng: np.random.Generator, size: int, reference_spp: int,
+                  input_spp: Sequence[int] = exr_io.INPUT_SPP) -> Dict[str, Any]:
     """What every view has besides its scene: the input and reference seeds (the next two draws
     of ``rng``), the size and the sample counts."""
     return {"input_seed": int(rng.integers(1, 2**31 - 1)),
             "reference_seed": int(rng.integers(1, 2**31 - 1)),
             "size": [size, size],
             "reference_spp": int(reference_spp),
-            "input_spp": list(exr_io.INPUT_SPP),
+            "input_spp": [int(k) for k in input_spp],
             "baseline_spp": 16}
 
 
 def random_view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
                            histogram: Dict[str, List[float]], split: str = "train",
-                           elevation_limit: float = 75.0) -> Dict[str, Any]:
+                           elevation_limit: float = 75.0,
+                           input_spp: Sequence[int] = exr_io.INPUT_SPP) -> Dict[str, Any]:
     """The random, deterministic parameters of view ``index`` of ``dataset`` for ``--tf random``
     (``histogram``: :func:`ptv_training.transfer.histogram_quantiles` of the volume)."""
     from .transfer import random_transfer_function
@@ -122,12 +124,13 @@ def random_view_parameters(dataset: str, index: int, seed: int, size: int, refer
                   "elevation": float(rng.uniform(-30.0, 80.0)),
                   "intensity": float(rng.uniform(0.4, 1.6))},
         "background": background,
-        **render_fields(rng, size, reference_spp),
+        **render_fields(rng, size, reference_spp, input_spp),
     }
 
 
 def view_parameters(dataset: str, index: int, seed: int, size: int, reference_spp: int,
-                    elevation_limit: float = 75.0) -> Dict[str, Any]:
+                    elevation_limit: float = 75.0,
+                    input_spp: Sequence[int] = exr_io.INPUT_SPP) -> Dict[str, Any]:
     """The random, deterministic parameters of view ``index`` of ``dataset`` for
     ``--tf presets`` (unchanged since the first data set: the same seed gives the same views)."""
     from pathtracedvolume.presets import find_preset
@@ -154,7 +157,7 @@ def view_parameters(dataset: str, index: int, seed: int, size: int, reference_sp
                   "elevation": float(rng.uniform(15.0, 80.0)),
                   "intensity": float(rng.uniform(0.7, 1.3))},
         "background": list(BACKGROUND),
-        **render_fields(rng, size, reference_spp),
+        **render_fields(rng, size, reference_spp, input_spp),
     }
     assert len(shift) == len(anchor_groups(preset))
     return view
@@ -255,6 +258,17 @@ def summarize_checks(views: Sequence[Dict[str, Any]]) -> Dict[str, Any]:
     return out
 
 
+def _spp_list(text: str) -> Tuple[int, ...]:
+    """"1,4,16" -> (1, 4, 16): increasing positive counts that start at 1."""
+    try:
+        spps = tuple(int(k) for k in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a list of integers: {text!r}") from None
+    if not spps or spps[0] != 1 or any(b <= a for a, b in zip(spps, spps[1:])):
+        raise argparse.ArgumentTypeError(f"need increasing counts starting at 1, got {text!r}")
+    return spps
+
+
 def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog="python Training/ptv_training/generate.py",
@@ -278,6 +292,9 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                              "noisy target for a Noise2Noise loss)")
     parser.add_argument("--val-reference-spp", type=int, default=1024,
                         help="reference samples per pixel of validation views (default: 1024)")
+    parser.add_argument("--input-spp", type=_spp_list, default=exr_io.INPUT_SPP,
+                        help="comma-separated input sample counts, each view's one seed "
+                             "accumulated through them (default: 1,2,4)")
     parser.add_argument("--seed", type=int, default=2023, help="master seed (default: 2023)")
     parser.add_argument("--check-reference", action="store_true",
                         help="record the reference convergence check (PSNR of R/2 vs R, and the "
@@ -314,7 +331,8 @@ def make_view(args: argparse.Namespace, dataset: str, index: int,
               histograms: Dict[str, Dict[str, List[float]]]) -> Dict[str, Any]:
     """The parameters of view ``index`` of ``dataset`` under ``args``."""
     if args.tf == "presets":
-        view = view_parameters(dataset, index, args.seed, args.size, args.reference_spp)
+        view = view_parameters(dataset, index, args.seed, args.size, args.reference_spp,
+                               input_spp=args.input_spp)
         if args.val_views:
             view["split"] = "val" if index >= args.views - args.val_views else "train"
         return view
@@ -324,7 +342,7 @@ def make_view(args: argparse.Namespace, dataset: str, index: int,
     return random_view_parameters(
         dataset, index, args.seed, args.size,
         args.val_reference_spp if val else args.reference_spp, histograms[dataset],
-        split="val" if val else "train")
+        split="val" if val else "train", input_spp=args.input_spp)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -411,12 +429,12 @@ def _write_manifest(path: Path, args: argparse.Namespace, command: str,
                        "val_views": args.val_views, "size": args.size,
                        "reference_spp": args.reference_spp,
                        "val_reference_spp": args.val_reference_spp, "seed": args.seed,
-                       "input_spp": list(exr_io.INPUT_SPP), "baseline_spp": 16,
+                       "input_spp": list(args.input_spp), "baseline_spp": 16,
                        **({"threshold_jitter": 0.05, "opacity_scale": [0.5, 1.5],
                            "distance_factor": [0.8, 1.3]} if args.tf == "presets" else
                           {"distance_factor": [0.6, 1.5], "light_elevation": [-30, 80],
                            "light_intensity": [0.4, 1.6], "background_grey": [0.03, 1.0]})},
-        "channels": exr_io.channel_names(),
+        "channels": exr_io.channel_names(args.input_spp),
         "row_order": "EXR top row first; ptv_training.exr_io.read_view returns VTK order",
         "machine": {"platform": platform.platform(), "cpus": os.cpu_count()},
         "timing": {"this_run_s": time.perf_counter() - started, "rendered": rendered,
