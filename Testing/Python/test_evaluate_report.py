@@ -192,3 +192,23 @@ def test_a_trace_leaves_the_scene_mapper_settings() -> None:
         assert data["Radiance@2"].shape == (12, 16, 3)
         assert options.GetEdgeSamples() == defaults.GetEdgeSamples()
         assert options.GetComputeEdgeSamples() == defaults.GetComputeEdgeSamples()
+
+
+def test_the_samples_section_denoises_with_the_model_given(tmp_path: Path) -> None:
+    """``--model`` reaches the mapper of the quality-against-samples section (it once measured
+    the shipped model whatever the option said), and the scene gets its default back after."""
+    sys.path.insert(0, str(ROOT / "Testing" / "Benchmarks"))
+    from evaluation.samples import denoising
+    from evaluation.scenes import Scenes
+
+    scenes = Scenes(threads=1)
+    scene = scenes.scene({"volume": "head", "size": [16, 12]})
+    shipped = ROOT / "Data" / "Models" / "guidenet.onnx"
+    copy = tmp_path / "other model.onnx"
+    copy.write_bytes(shipped.read_bytes())
+    for model, named in (("", "guidenet.onnx"), (str(copy), "other model.onnx")):
+        with denoising(scene.mapper, model):
+            scene.render(seed=1, frames=1)
+            assert scene.mapper.GetDenoise()
+            assert named in scene.mapper.GetDenoiserStatus(), scene.mapper.GetDenoiserStatus()
+        assert not scene.mapper.GetDenoise() and not scene.mapper.GetDenoiserModelFile()

@@ -12,7 +12,9 @@ the check of issue #58: shown >= max(raw, OIDN fast) - 0.2 dB at every count.
 from __future__ import annotations
 
 import argparse
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+import contextlib
+from pathlib import Path
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -37,6 +39,20 @@ def _counts(frames: int) -> List[int]:
     return out
 
 
+@contextlib.contextmanager
+def denoising(mapper: Any, model: str = "") -> Iterator[None]:
+    """The mapper denoises with ``model`` (``--model``; "": the shipped one) inside the block;
+    after it, it denoises no more and has its default model again (the other sections' scenes
+    denoise the passes themselves)."""
+    mapper.SetDenoiserModelFile(str(Path(model).resolve()) if model else "")
+    mapper.DenoiseOn()
+    try:
+        yield
+    finally:
+        mapper.DenoiseOff()
+        mapper.SetDenoiserModelFile("")
+
+
 def measure(bench: Any, out: Output, results: Mapping[str, Any]) -> Dict[str, Any]:
     import ptvbench as pb
     from tqdm import tqdm
@@ -49,9 +65,7 @@ def measure(bench: Any, out: Output, results: Mapping[str, Any]) -> Dict[str, An
             spec = bench.view_spec(dataset, 0, size)
             ref = bench.reference(spec, args.ref_spp)["ref"]
             scene = bench.scenes.scene(spec)
-            mapper = scene.mapper
-            mapper.DenoiseOn()
-            try:
+            with denoising(scene.mapper, args.model):
                 bar = tqdm(total=max(counts), desc=f"samples {dataset} {size}²", unit="frame",
                            leave=False, disable=None)
 
@@ -71,8 +85,6 @@ def measure(bench: Any, out: Output, results: Mapping[str, Any]) -> Dict[str, An
 
                 scene.render(seed=SEED, frames=max(counts), on_frame=on_frame)
                 bar.close()
-            finally:
-                mapper.DenoiseOff()  # the other sections' scenes denoise the passes themselves
     return {"samples": rows}
 
 
