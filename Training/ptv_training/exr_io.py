@@ -36,7 +36,7 @@ import hashlib
 import json
 import os
 from pathlib import Path
-from typing import Dict, Iterable, List, Mapping, Optional, Tuple
+from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 from pathtracedvolume.atomic import atomic_path
@@ -188,6 +188,12 @@ def view_attribute(header: Mapping[str, object]) -> Optional[dict]:
         return None
 
 
+def input_spp(view: Optional[Mapping]) -> Sequence[int]:
+    """The input sample counts a view lists (``generate.py --input-spp``); :data:`INPUT_SPP` for
+    views made before the option, or no view."""
+    return (view or {}).get("input_spp", INPUT_SPP)
+
+
 def verify_view_file(path: str | os.PathLike, expected_view: Optional[Mapping] = None,
                      size: Optional[Tuple[int, int]] = None) -> Tuple[bool, str]:
     """(ok, why not): the file reads, has every channel, finite values, the expected size and,
@@ -197,8 +203,7 @@ def verify_view_file(path: str | os.PathLike, expected_view: Optional[Mapping] =
     except Exception as exc:  # noqa: BLE001 -- any unreadable file is "not ok"
         return False, f"unreadable: {exc}"
     view = expected_view if expected_view is not None else view_attribute(header)
-    spps = (view or {}).get("input_spp", INPUT_SPP)
-    missing = [c for c in channel_names(spps) if c not in channels]
+    missing = [c for c in channel_names(input_spp(view)) if c not in channels]
     if missing:
         return False, f"missing channels {missing[:4]}..."
     shapes = {v.shape for v in channels.values()}
@@ -227,7 +232,7 @@ def read_view(path: str | os.PathLike) -> Dict[str, object]:
 
     inputs: Dict[int, Dict[str, np.ndarray]] = {}
     view = view_attribute(header)
-    for spp in (view or {}).get("input_spp", INPUT_SPP):
+    for spp in input_spp(view):
         prefix = spp_prefix(spp)
         if prefix + "R" not in channels:
             continue

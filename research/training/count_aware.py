@@ -39,6 +39,7 @@ from ptv_training import exr_io  # noqa: E402
 from ptv_training.compare import oidn_fast  # noqa: E402
 from ptv_training.data import sample_passes, split_views  # noqa: E402
 from ptv_training.evaluate import cpp_denoise  # noqa: E402
+from pathtracedvolume.metrics import psnr  # noqa: E402
 
 RAW = "raw mean"
 KNOWN = (*exr_io.INPUT_PASSES, "HistoryLength")  #: the passes given to the C++ denoiser
@@ -59,11 +60,6 @@ def parse_args(argv: Optional[Sequence[str]] = None) -> argparse.Namespace:
                    help="results path without suffix (.md and .json are written)")
     p.add_argument("--threads", type=int, default=2, help="denoiser threads (default 2)")
     return p.parse_args(argv)
-
-
-def psnr(image: np.ndarray, reference: np.ndarray) -> float:
-    from pathtracedvolume.metrics import psnr as measure
-    return float(measure(image, reference))
 
 
 def table(rows: List[Dict], methods: Sequence[str], counts: Sequence[int],
