@@ -23,16 +23,23 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
     this->Width = width;
     this->Height = height;
     this->Mean.resize(n);
+    // One frame needs only its mean: the others follow from it with the second frame.
+    std::vector<float>().swap(this->OddMean);
+    std::vector<float>().swap(this->SecondMoment);
+    count = 1;
+  }
+  const bool second = !first && this->SecondMoment.size() != n; // made from the first frame
+  if (second)
+  {
     this->OddMean.resize(n);
     this->SecondMoment.resize(n);
-    count = 1;
   }
   const float w = 1.0f / static_cast<float>(count);
   const bool odd = count % 2 == 1;
   const float wOdd = 1.0f / static_cast<float>((count + 1) / 2);
   float* mean = this->Mean.data();
   float* oddMean = this->OddMean.data();
-  float* second = this->SecondMoment.data();
+  float* moment = this->SecondMoment.data();
   // Element-wise, in parallel blocks (the same bits on any thread count): at 1024² these are
   // three 12 MB arrays per frame, which would otherwise run on one core inside the trace time.
   ParallelFor(threads, std::size_t(0), n, std::size_t(1) << 14,
@@ -43,12 +50,16 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
         const float f = frame[i];
         if (first)
         {
-          mean[i] = oddMean[i] = f;
-          second[i] = f * f;
+          mean[i] = f;
           continue;
         }
+        if (second)
+        {
+          oddMean[i] = mean[i];
+          moment[i] = mean[i] * mean[i];
+        }
         mean[i] += (f - mean[i]) * w; // as PassBuffers::Accumulate: same bits
-        second[i] += (f * f - second[i]) * w;
+        moment[i] += (f * f - moment[i]) * w;
         if (odd)
         {
           oddMean[i] += (f - oddMean[i]) * wOdd;

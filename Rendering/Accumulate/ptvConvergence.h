@@ -87,8 +87,8 @@ private:
   int Height = 0;
   int Count = 0;
   std::vector<float> Mean;         ///< mean of the frames, 3 per pixel
-  std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel
-  std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel
+  std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel (from the second frame)
+  std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel (likewise)
   std::vector<Band> Bands;         ///< one per band made at once
   std::vector<float> HalfVariance, Error, Scratch; ///< the estimate's
   std::vector<float> Rho; ///< how much of M's noise the last mix keeps (the estimate's)

@@ -57,6 +57,7 @@ void PassBuffers::Resize(int width, int height)
 {
   if (width == this->Width && height == this->Height)
   {
+    this->Allocate(true); // passes handed away by TakeTracedPasses get storage again
     return;
   }
   this->Width = width;
@@ -75,12 +76,12 @@ void PassBuffers::SetScatterPasses(bool keep)
 }
 
 //------------------------------------------------------------------------------
-void PassBuffers::Allocate(bool keepValues)
+void PassBuffers::Allocate(bool keepValues, int first)
 {
   const std::size_t pixels =
     static_cast<std::size_t>(this->Width) * static_cast<std::size_t>(this->Height);
   const int kept = this->Set == PassSet::All ? PassCount : kTracedPassCount;
-  for (int i = 0; i < PassCount; ++i)
+  for (int i = first; i < PassCount; ++i)
   {
     const bool keep = i < kept && !IsOnRequestPass(i) && (this->Scatter || !IsScatterPass(i));
     const bool allocated = this->Buffers[i].size() == pixels * kPasses[i].Components;
@@ -135,6 +136,24 @@ TracedPassPlanes PassBuffers::Planes()
 void PassBuffers::Store(int pixel, const PixelSample& s)
 {
   StoreSample(this->Planes(), static_cast<std::size_t>(pixel), s);
+}
+
+//------------------------------------------------------------------------------
+void PassBuffers::TakeTracedPasses(PassBuffers& other)
+{
+  if (&other == this)
+  {
+    return;
+  }
+  for (int i = 0; i < kTracedPassCount; ++i)
+  {
+    std::vector<float>().swap(this->Buffers[i]); // released before the other's arrive
+    this->Buffers[i].swap(other.Buffers[i]);
+  }
+  const bool sameSize = other.Width == this->Width && other.Height == this->Height;
+  this->Width = other.Width;
+  this->Height = other.Height;
+  this->Allocate(sameSize, kTracedPassCount);
 }
 
 //------------------------------------------------------------------------------

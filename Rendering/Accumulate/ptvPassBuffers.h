@@ -163,7 +163,8 @@ public:
   {
   }
 
-  /// Reallocate for a new size (contents cleared); a no-op when the size is unchanged.
+  /// Reallocate for a new size (contents cleared); for the same size, only the kept passes
+  /// that hold no storage (handed away by TakeTracedPasses) are allocated, zeros.
   void Resize(int width, int height);
 
   /// Set every value to 0.
@@ -203,13 +204,22 @@ public:
    */
   void Accumulate(PassBuffers& frame, int count);
 
+  /**
+   * Take @a other's traced passes and size without a copy: this buffer's own traced passes are
+   * released first and @a other keeps none until its next Resize; the other passes are sized
+   * to it (zeros where reallocated). A restarting accumulation takes its first frame as its
+   * mean, and the next frame traces into the old mean's storage, with one set of traced
+   * passes between them.
+   */
+  void TakeTracedPasses(PassBuffers& other);
+
   /// Exchange the buffers of @a pass with @a other's (same size).
   void Swap(int pass, PassBuffers& other) { this->Buffers[pass].swap(other.Buffers[pass]); }
 
 private:
-  /// (Re)allocate the kept passes, zeros, and free the others; with @a keepValues the passes
-  /// already of this size keep theirs.
-  void Allocate(bool keepValues);
+  /// (Re)allocate the kept passes from @a first on, zeros, and free the others; with
+  /// @a keepValues the passes already of this size keep theirs.
+  void Allocate(bool keepValues, int first = 0);
 
   PassSet Set = PassSet::All;
   bool Scatter = true;

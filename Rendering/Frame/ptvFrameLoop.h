@@ -194,6 +194,9 @@ private:
   Reprojection History;
   CameraRays AccumulatedCamera{}; ///< the camera of the accumulated passes
   bool ViewMoved = false;         ///< reproject the accumulation into the next traced frame
+  /// The frame being traced starts the accumulation without history: it becomes the mean
+  /// (PassBuffers::TakeTracedPasses), traced into the old mean's storage.
+  bool FrameIsMean = false;
   Denoiser Denoising;
   Convergence Converging;
   ShownImage Shown;

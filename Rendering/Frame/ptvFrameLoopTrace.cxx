@@ -34,6 +34,14 @@ double Now()
 void FrameLoop::Trace(const FrameRequest& request, FrameMessages& messages)
 {
   const double start = Now();
+  // A first frame without history to carry is the mean itself: it is traced into the old
+  // mean's storage, so that one set of traced passes is kept (process 0 keeps the frame).
+  this->FrameIsMean = this->AccumulatedFrames == 0 && !this->ViewMoved &&
+    !this->History.HasHistory() && this->Parallel.Shows();
+  if (this->FrameIsMean)
+  {
+    this->Frame.TakeTracedPasses(this->Accumulated);
+  }
   this->Frame.Resize(this->Params.Camera.Width, this->Params.Camera.Height);
   const int samples = request.Scene.SamplesPerFrame;
   const unsigned int firstSample = this->Parallel.FirstSample(this->SampleFrames, samples);
@@ -153,22 +161,28 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
 {
   const int width = this->Frame.GetWidth();
   const int height = this->Frame.GetHeight();
-  this->Accumulated.Resize(width, height);
   this->Converging.AddFrame(
     this->Frame.Data(PassRadiance), width, height, this->AccumulatedFrames, request.Threads);
-  if (this->ViewMoved)
+  if (this->FrameIsMean)
+  {
+    this->Accumulated.TakeTracedPasses(this->Frame); // count 1: the frame is the mean
+  }
+  else if (this->ViewMoved)
   {
     const double reprojectStart = Now();
+    this->Accumulated.Resize(width, height);
     this->ReprojectFrame(request);
     this->LastReprojectionTime += 1000.0 * (Now() - reprojectStart);
   }
   else if (this->History.HasHistory())
   {
+    this->Accumulated.Resize(width, height);
     this->History.Accumulate(
       this->Accumulated, this->Frame, this->AccumulatedFrames, request.Threads);
   }
   else
   {
+    this->Accumulated.Resize(width, height);
     this->Accumulated.Accumulate(this->Frame, this->AccumulatedFrames);
   }
   this->AccumulatedCamera = this->Params.Camera;

@@ -7,7 +7,10 @@
 //    Clear zeroes;
 //  - Accumulate(frame, k) for k = 1..N leaves the arithmetic mean of the N frames in every
 //    traced pass (float rounding: each update errs by at most ~2 eps for values in [-1, 1], so
-//    within 2 N eps), swaps on the first frame, and leaves the derived passes alone.
+//    within 2 N eps), swaps on the first frame, and leaves the derived passes alone;
+//  - TakeTracedPasses moves the traced passes without a copy (the same storage, the same
+//    values), releases the taker's own first and leaves the giver none until its Resize, which
+//    allocates them again (zeros); the derived passes of the taker are sized to the giver.
 #include "ptvPassBuffers.h"
 #include "ptvTestCheck.h"
 
@@ -199,6 +202,61 @@ void TestAccumulate(std::mt19937& rng)
       std::to_string(worst) + ")");
   Check(acc.Data(ptv::PassConverged)[0] == 5.f, "Accumulate leaves the derived passes");
 }
+
+void TestTakeTracedPasses(std::mt19937& rng)
+{
+  // A restart: the frame, traced at 4 x 3, becomes the mean of an accumulation of another size.
+  ptv::PassBuffers mean, frame(ptv::PassSet::Traced);
+  mean.Resize(2, 2);
+  frame.Resize(4, 3);
+  for (int p = 0; p < 12; ++p)
+  {
+    frame.Store(p, RandomSample(rng));
+  }
+  const ptv::PixelSample seventh = ptv::LoadSample(frame.Planes(), 7);
+  const float* radiance = frame.Data(ptv::PassRadiance);
+  mean.TakeTracedPasses(frame);
+  bool derivedSized = true;
+  for (int pass = ptv::kTracedPassCount; pass < ptv::PassCount; ++pass)
+  {
+    const float* d = mean.Data(pass);
+    derivedSized = derivedSized &&
+      (ptv::IsOnRequestPass(pass) ? d == nullptr : d != nullptr && d[Values(mean, pass) - 1] == 0.f);
+  }
+  Check(mean.GetWidth() == 4 && mean.GetHeight() == 3 && derivedSized,
+    "the taker has the giver's size, its derived passes sized to it (zeros)");
+  Check(mean.Data(ptv::PassRadiance) == radiance && Same(ptv::LoadSample(mean.Planes(), 7), seventh),
+    "the traced passes are moved, not copied, values and all");
+  bool none = true;
+  for (int pass = 0; pass < ptv::PassCount; ++pass)
+  {
+    none = none && frame.Data(pass) == nullptr;
+  }
+  Check(none, "the giver keeps no traced pass (one set between the two)");
+
+  // The next restart: the frame traces into the mean's storage, the mean keeps none of it.
+  frame.TakeTracedPasses(mean);
+  frame.Resize(4, 3);
+  Check(frame.Data(ptv::PassRadiance) == radiance && mean.Data(ptv::PassRadiance) == nullptr,
+    "the frame takes the mean's storage back; Resize of the same size keeps it");
+  Check(frame.Data(ptv::PassConverged) == nullptr,
+    "a PassSet::Traced taker keeps no derived pass");
+  mean.Resize(4, 3);
+  const float* alpha = mean.Data(ptv::PassAlpha);
+  bool zeros = alpha != nullptr;
+  for (std::size_t i = 0; zeros && i < Values(mean, ptv::PassAlpha); ++i)
+  {
+    zeros = alpha[i] == 0.f;
+  }
+  Check(zeros && mean.Data(ptv::PassNormal) != nullptr,
+    "Resize of the same size allocates the passes given away, zeros");
+  mean.SetScatterPasses(false);
+  frame.SetScatterPasses(false);
+  frame.TakeTracedPasses(mean);
+  frame.Resize(4, 3);
+  Check(frame.Data(ptv::PassAlpha) == alpha && frame.Data(ptv::PassScatterDepth) == nullptr,
+    "without the scatter passes none is taken or allocated");
+}
 }
 
 int TestPTVPassBuffers(int, char*[])
@@ -208,5 +266,6 @@ int TestPTVPassBuffers(int, char*[])
   TestStoreLoad(rng);
   TestSizing(rng);
   TestAccumulate(rng);
+  TestTakeTracedPasses(rng);
   return TestResult();
 }
