@@ -14,15 +14,25 @@ namespace ptv
 using namespace convergence; // ptvConvergenceMath.h
 
 //------------------------------------------------------------------------------
-void Convergence::AddFrame(const float* frame, int width, int height, int count, int threads)
+void Convergence::AddFrame(const float* frame, int width, int height, int count, int threads,
+  bool shared, const float* previous)
 {
   const std::size_t n = 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  const bool first = count <= 1 || width != this->Width || height != this->Height;
+  const bool first = count <= 1 || width != this->Width || height != this->Height ||
+    shared != this->Shared || (shared && !previous);
   if (first)
   {
     this->Width = width;
     this->Height = height;
-    this->Mean.resize(n);
+    this->Shared = shared;
+    if (shared)
+    {
+      std::vector<float>().swap(this->Mean);
+    }
+    else
+    {
+      this->Mean.resize(n);
+    }
     // One frame needs only its mean: the others follow from it with the second frame.
     std::vector<float>().swap(this->OddMean);
     std::vector<float>().swap(this->SecondMoment);
@@ -37,9 +47,15 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
   const float w = 1.0f / static_cast<float>(count);
   const bool odd = count % 2 == 1;
   const float wOdd = 1.0f / static_cast<float>((count + 1) / 2);
-  float* mean = this->Mean.data();
+  float* mean = this->Mean.data(); // not kept when shared
+  const float* before = shared ? previous : mean;
   float* oddMean = this->OddMean.data();
   float* moment = this->SecondMoment.data();
+  if (first && shared)
+  {
+    this->Count = count;
+    return;
+  }
   // Element-wise, in parallel blocks (the same bits on any thread count): at 1024² these are
   // three 12 MB arrays per frame, which would otherwise run on one core inside the trace time.
   ParallelFor(threads, std::size_t(0), n, std::size_t(1) << 14,
@@ -55,10 +71,13 @@ void Convergence::AddFrame(const float* frame, int width, int height, int count,
         }
         if (second)
         {
-          oddMean[i] = mean[i];
-          moment[i] = mean[i] * mean[i];
+          oddMean[i] = before[i];
+          moment[i] = before[i] * before[i];
         }
-        mean[i] += (f - mean[i]) * w; // as PassBuffers::Accumulate: same bits
+        if (!shared)
+        {
+          mean[i] += (f - mean[i]) * w; // as PassBuffers::Accumulate: same bits
+        }
         moment[i] += (f * f - moment[i]) * w;
         if (odd)
         {
@@ -83,7 +102,8 @@ static_assert(kBandRows % kBoxRows == 0 && kBandRows % kBlock == 0, "band rows")
 double Convergence::Combine(const Images& images, int count, int threads, bool estimate)
 {
   const std::size_t n = static_cast<std::size_t>(this->Width) * this->Height;
-  if (count != this->Count || n == 0 || n != images.Pixels)
+  const float* mean = this->MeanOf(images);
+  if (count != this->Count || n == 0 || n != images.Pixels || !mean)
   {
     if (images.ShownAlpha && images.DenoisedAlpha) // no statistics of this size
     {
@@ -93,7 +113,6 @@ double Convergence::Combine(const Images& images, int count, int threads, bool e
   }
   const int k = count;
   const ToneTable& g = Tone();
-  const float* mean = this->Mean.data();
   if (k >= 2 && estimate)
   {
     // The raw mean's error from the two half accumulations (the still render's estimate).
@@ -207,7 +226,7 @@ void Convergence::BlendBand(const Images& images, int k, bool rho, int band, Ban
   const std::size_t p0 = static_cast<std::size_t>(y0) * w; // the band's own rows
   const std::size_t own = static_cast<std::size_t>(y1 - y0) * w;
   const ToneTable& g = Tone();
-  const float* mean = this->Mean.data();
+  const float* mean = this->MeanOf(images);
   const float* denoised = images.Denoised;
   const bool alpha = images.Alpha && images.DenoisedAlpha && images.ShownAlpha;
   // Per pixel: the mean's variance (delta method; 0 on the first frame) and the squared

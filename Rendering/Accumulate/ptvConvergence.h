@@ -7,8 +7,9 @@
  * Kept per pixel while frames of one view accumulate: their mean M, the mean of the squared frame
  * radiance (the variance of M) and the mean of the odd-numbered frames (with the even ones: two
  * independent half-accumulations). M is the accumulated Radiance pass, bit for bit, until the
- * camera moves; after that the pass also holds reprojected history (ptvReprojection), whose
- * error these statistics cannot see, so the blend and the estimate use M, the view's own frames.
+ * camera moves, and is then read there; after that the pass also holds reprojected history
+ * (ptvReprojection), whose error these statistics cannot see, so the blend and the estimate use
+ * their own M, the view's own frames.
  *
  * The shown image mixes four candidates, from the most smoothed to the least: the denoised D,
  * D + box3(M - D), D + box7(M - D) and M, with softmax weights of a small MLP
@@ -42,13 +43,17 @@ public:
   /**
    * Add frame @a count (1 = first: restarts) of radiance @a frame (3 floats per pixel) for a
    * @a width x @a height image, on @a threads threads (<= 0: every core; the same result on
-   * any count).
+   * any count). With @a shared the caller keeps M itself (the accumulated Radiance pass of an
+   * accumulation without history: the same bits) and gives it to Combine (Images::Mean);
+   * @a previous is then M before this frame (read by the second frame; nullptr for the first).
    */
-  void AddFrame(const float* frame, int width, int height, int count, int threads = 0);
+  void AddFrame(const float* frame, int width, int height, int count, int threads = 0,
+    bool shared = false, const float* previous = nullptr);
 
   /// The images Combine mixes and writes.
   struct Images
   {
+    const float* Mean = nullptr; ///< M, 3 floats per pixel, when AddFrame was told it is shared
     const float* Denoised = nullptr;      ///< D, 3 floats per pixel (nullptr: Denoise off)
     const float* Alpha = nullptr;         ///< the accumulated opacity (optional)
     const float* DenoisedAlpha = nullptr; ///< the opacity through the denoiser's grid
@@ -78,6 +83,11 @@ private:
     std::vector<double> Sums;
   };
 
+  /// M: the caller's (Images::Mean) when shared, else the one kept here.
+  const float* MeanOf(const Images& images) const
+  {
+    return this->Shared ? images.Mean : this->Mean.data();
+  }
   /// The learned mix of the images after @a k frames (and rho per pixel when @a rho).
   void Blend(const Images& images, int k, bool rho, int threads);
   /// Blend's band @a band of kBandRows rows.
@@ -86,6 +96,7 @@ private:
   int Width = 0;
   int Height = 0;
   int Count = 0;
+  bool Shared = false;             ///< M is the caller's (AddFrame), Mean stays empty
   std::vector<float> Mean;         ///< mean of the frames, 3 per pixel
   std::vector<float> SecondMoment; ///< mean of frame^2, 3 per pixel (from the second frame)
   std::vector<float> OddMean;      ///< mean of frames 1, 3, 5, ..., 3 per pixel (likewise)

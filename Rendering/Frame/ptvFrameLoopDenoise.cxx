@@ -132,6 +132,7 @@ void FrameLoop::Combine(const FrameRequest& request, FrameMessages& messages)
   Convergence::Images images;
   images.Pixels =
     static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
+  images.Mean = acc.Data(PassRadiance); // M, when the accumulation has no history
   if (denoised)
   {
     this->ConvergedAlpha.resize(images.Pixels);
