@@ -50,6 +50,62 @@ void BilateralGridCpu::Fit(std::vector<T>& buffer, std::size_t size)
 }
 
 //------------------------------------------------------------------------------
+void BilateralGridCpu::FitRows(std::vector<std::vector<float>>& rows, std::size_t count,
+  std::size_t bins, int floatsPerCell)
+{
+  if (rows.size() != count)
+  {
+    std::vector<std::vector<float>>(count).swap(rows);
+    ++this->Allocations;
+  }
+  if (count == 0)
+  {
+    return;
+  }
+  // The padding rows are never splatted: their zero column alone (the splat writes the others).
+  for (const std::size_t r : { std::size_t(0), count - 1 })
+  {
+    rows[r].assign(bins * floatsPerCell, 0.f);
+  }
+}
+
+//------------------------------------------------------------------------------
+std::size_t BilateralGridCpu::RowCapacity() const
+{
+  std::size_t sum = 0;
+  for (int l = 0; l < kMaxGridLevels; ++l)
+  {
+    for (const auto& row : this->RowCells[l])
+    {
+      sum += row.capacity();
+    }
+  }
+  for (const auto& row : this->RowAlpha)
+  {
+    sum += row.capacity();
+  }
+  return sum;
+}
+
+//------------------------------------------------------------------------------
+std::size_t BilateralGridCpu::GetCellBytes() const
+{
+  std::size_t floats = 0;
+  for (int l = 0; l < kMaxGridLevels; ++l)
+  {
+    for (const auto& row : this->RowCells[l])
+    {
+      floats += row.size();
+    }
+  }
+  for (const auto& row : this->RowAlpha)
+  {
+    floats += row.size();
+  }
+  return floats * sizeof(float);
+}
+
+//------------------------------------------------------------------------------
 void BilateralGridCpu::Prepare(
   const BilateralGridSettings& settings, int levels, int width, int height, int blocks, bool alpha)
 {
@@ -64,12 +120,13 @@ void BilateralGridCpu::Prepare(
     PushGrid& g = this->Levels[l];
     if (l >= levels)
     {
-      this->Fit(this->Cells[l], 0);
+      std::vector<std::vector<float>>().swap(this->RowCells[l]);
+      this->Fit(this->Start[l], 0);
       g = PushGrid{};
       continue;
     }
     const GridLevel geometry = LevelGeometry(settings, l, width, height);
-    const bool same = g.Cells && g.Geometry.Width == geometry.Width &&
+    const bool same = g.RowCells && g.Geometry.Width == geometry.Width &&
       g.Geometry.Height == geometry.Height && g.Geometry.Depth == geometry.Depth &&
       g.Geometry.SpatialStep == geometry.SpatialStep &&
       this->ColumnIndex[l].size() == static_cast<std::size_t>(width) &&
@@ -77,23 +134,18 @@ void BilateralGridCpu::Prepare(
     g.Geometry = geometry;
     g.Columns = geometry.Width + 2;
     g.Bins = geometry.Depth + 1;
-    const std::size_t cells = static_cast<std::size_t>(geometry.Height + 2) * g.Columns * g.Bins;
-    // A new geometry starts from zero cells (the padding must stay zero; see the rows header).
-    if (!same)
-    {
-      this->Cells[l].clear();
-    }
-    this->Fit(this->Cells[l], cells * 4);
-    g.Cells = this->Cells[l].data();
-    g.Alpha = nullptr;
+    const std::size_t rows = static_cast<std::size_t>(geometry.Height + 2);
+    const std::size_t bins = static_cast<std::size_t>(g.Bins);
+    this->FitRows(this->RowCells[l], rows, bins, 4);
+    g.RowCells = this->RowCells[l].data();
+    // The padding rows' columns read their zero column; the splat writes the other rows'.
+    this->Fit(this->Start[l], rows * g.Columns);
+    g.Start = this->Start[l].data();
+    g.RowAlpha = nullptr;
     if (l == 0 && alpha)
     {
-      if (!same)
-      {
-        this->AlphaCells.clear();
-      }
-      this->Fit(this->AlphaCells, cells);
-      g.Alpha = this->AlphaCells.data();
+      this->FitRows(this->RowAlpha, rows, bins, 1);
+      g.RowAlpha = this->RowAlpha.data();
     }
     this->Fit(this->ColumnIndex[l], static_cast<std::size_t>(width));
     this->Fit(this->ColumnTents[l], 2 * static_cast<std::size_t>(width));
@@ -118,6 +170,10 @@ void BilateralGridCpu::Prepare(
   if (alpha)
   {
     this->Fit(this->Alpha, pixels);
+  }
+  else
+  {
+    std::vector<std::vector<float>>().swap(this->RowAlpha);
   }
   if (blocks != this->Blocks || scratchColumns != this->ScratchColumns ||
     scratchFloats != this->ScratchFloats)
@@ -196,6 +252,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
 
   // Phase 2: push splat, every level; block b owns a fixed range of each level's grid rows.
   start = std::chrono::steady_clock::now();
+  const std::size_t capacity = this->RowCapacity();
   ParallelFor(settings.Threads, 0, blocks, 1,
     [&](vtkIdType blockBegin, vtkIdType blockEnd)
     {
@@ -229,6 +286,10 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
         }
       }
     });
+  if (this->RowCapacity() != capacity) // some rows needed more cells than they had
+  {
+    ++this->Allocations;
+  }
   this->Timings.Splat = MillisecondsSince(start);
 
   // Phase 3: slice every level, blend, re-modulate; parallel over image rows.

@@ -13,7 +13,8 @@
  * Its cost follows the pixels: only cells that some pixel touches are cleared and normalised.
  *
  * The buffers live in the object and are reallocated only when the image size, the number of
- * levels, a level's steps or the thread count change: repeated frames allocate nothing.
+ * levels, a level's steps or the thread count change, and a grid row's cells when its pixels
+ * touch more range bins than it held (with an eighth to spare): repeated frames allocate nothing.
  */
 #ifndef ptvBilateralGridCpu_h
 #define ptvBilateralGridCpu_h
@@ -51,19 +52,28 @@ public:
   /// How many times a buffer was (re)allocated since construction.
   std::size_t GetAllocationCount() const { return this->Allocations; }
 
+  /// Bytes of the cells (colour and opacity, every level) the last Apply left in the grid.
+  std::size_t GetCellBytes() const;
+
   /// The instruction set of the last Apply's kernels ("AVX3", "AVX2", ..., "EMU128").
   const char* GetLastKernelTarget() const { return this->KernelTarget; }
 
 private:
   template <typename T>
   void Fit(std::vector<T>& buffer, std::size_t size);
+  /// The storage of @a rows rows of one level (a padding row: its zero column alone).
+  void FitRows(std::vector<std::vector<float>>& rows, std::size_t count, std::size_t bins,
+    int floatsPerCell);
+  /// Sum of the capacities of the rows' storage (a change is an allocation).
+  std::size_t RowCapacity() const;
   void Prepare(const BilateralGridSettings& settings, int levels, int width, int height,
     int blocks, bool alpha);
 
   std::vector<float> Demodulated;   // W * H * 4: (r, g, b, 1), not clamped
   std::vector<double> RowLuminance; // H row sums of luminance(D)
   std::vector<std::size_t> RowLit;  // H row counts of pixels with luminance(D) > 0
-  std::vector<float> Cells[kMaxGridLevels]; // per level (GH + 2) * (GW + 2) * (GD + 1) * 4
+  std::vector<std::vector<float>> RowCells[kMaxGridLevels]; // per level GH + 2 rows of cells
+  std::vector<int> Start[kMaxGridLevels];       // per level (GH + 2) * (GW + 2) (rows header)
   std::vector<int> RowIndex[kMaxGridLevels];    // J0 per image row, I0 per image column
   std::vector<int> ColumnIndex[kMaxGridLevels];
   std::vector<float> RowTents[kMaxGridLevels];  // Ty0 then Ty1 (2 H)
@@ -71,7 +81,7 @@ private:
   std::vector<float> Scratch;       // per block: 2 rows of the largest level's Columns * Bins * 4
   std::vector<int> ScratchRanges;   // per block and row: KMin, then KMax of each column
   std::vector<float> Alpha;         // with an opacity: W * H sanitised opacities
-  std::vector<float> AlphaCells;    // with an opacity: level 0's (GH + 2) * (GW + 2) * (GD + 1)
+  std::vector<std::vector<float>> RowAlpha; // with an opacity: level 0's rows, as RowCells
   std::vector<float> AlphaScratch;  // with an opacity: per block 2 rows of ScratchFloats / 4
   PushGrid Levels[kMaxGridLevels];
   int Blocks = 0;

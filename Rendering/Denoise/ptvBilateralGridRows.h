@@ -11,11 +11,15 @@
  * pixel's 2 x 2 x 2 neighbourhood is always addressable: row r = j + 1, column c = i + 1,
  * bin k (0..Depth, Depth is padding). After the splat a kept cell holds (mean r, g, b, 1), an
  * empty or padding cell (0, 0, 0, 0): the slice then needs no test per tap, its fourth lane sums
- * the kept weights. Only the cells a pixel touches are written in a frame; the slice only reads
- * those with a non-zero weight, so stale (finite) cells elsewhere never change a result.
+ * the kept weights. A column keeps only the bins its pixels touched (a pixel's guides span a
+ * few of the Depth bins): row r's storage is a zero column (Bins cells) followed by each
+ * column's touched bins, and Start[r][c] + k is the index of cell (r, c, k) there (Start 0:
+ * the zero column, for padding and untouched columns). A pixel slices exactly the cells its
+ * own splat touched, except the lower grid row when its tent weight there is 0: the slice then
+ * reads the upper row's cells for it, with weight 0.
  *
  * The opacity (the denoiser's DenoiseAlpha) can ride along at level 0: one more float per cell
- * in a plane of its own (PushGrid::Alpha), pushed with the colour's tent weights and normalised
+ * in rows of their own (PushGrid::RowAlpha), pushed with the colour's tent weights and normalised
  * by the colour's weight sum, sliced with the colour's taps -- what a second grid pass over
  * (alpha, alpha, alpha) would give, for a fraction of its cost.
  */
@@ -25,16 +29,21 @@
 #include "Kernels/ptvBilateralGrid.h"
 
 #include <cstddef>
+#include <vector>
 
 namespace ptv
 {
-/// One level of the CPU grid: geometry, interleaved padded cells and per-axis tent tables.
+/// One level of the CPU grid: geometry, the touched cells of each padded row and per-axis
+/// tent tables.
 struct PushGrid
 {
   GridLevel Geometry;  ///< Width, Height, Depth, steps (its Values/Weights are unused)
   int Columns = 0;     ///< Geometry.Width + 2
   int Bins = 0;        ///< Geometry.Depth + 1
-  float* Cells = nullptr; ///< (Height + 2) * Columns * Bins * 4 floats
+  /// Height + 2 rows of cells (4 floats each): a zero column, then each column's touched bins.
+  std::vector<float>* RowCells = nullptr;
+  /// (Height + 2) * Columns: cell (r, c, k) is cell Start[r * Columns + c] + k of row r.
+  int* Start = nullptr;
   // Per image column x: i0 = floor(u_x), Tent(u_x - i0), Tent(u_x - i0 - 1); likewise rows.
   const int* I0 = nullptr;
   const float* Tx0 = nullptr;
@@ -42,9 +51,10 @@ struct PushGrid
   const int* J0 = nullptr;
   const float* Ty0 = nullptr;
   const float* Ty1 = nullptr;
-  /// With an opacity (level 0 only; else null): (Height + 2) * Columns * Bins floats, each
-  /// cell's mean opacity over the same tent weights as its colour (0 for an empty cell).
-  float* Alpha = nullptr;
+  /// With an opacity (level 0 only; else null): Height + 2 rows of one float per cell of
+  /// RowCells (the same indices), each cell's mean opacity over the same tent weights as its
+  /// colour (0 for an empty cell).
+  std::vector<float>* RowAlpha = nullptr;
 };
 
 /// Scratch for splatting two consecutive grid rows (a pixel row pushes into both): row j's is
@@ -68,8 +78,8 @@ struct SplatInput
   int Width;
   int Height;
   float Limit; ///< outlier clamp of r, g, b; +inf = off
-  /// W * H sanitised opacities splatted beside the colour (not clamped) into grid.Alpha, or
-  /// null (then grid.Alpha is not touched).
+  /// W * H sanitised opacities splatted beside the colour (not clamped) into grid.RowAlpha,
+  /// or null (then grid.RowAlpha is not touched).
   const float* Alpha = nullptr;
 };
 
@@ -92,7 +102,8 @@ struct SliceInput
  * Splat grid rows [jBegin, jEnd) of @a grid: every pixel row y with j0 = J0[y] in
  * [jBegin - 1, jEnd - 1] is read once and pushed into grid rows j0 and j0 + 1 (those of the
  * range); once the rows of j0 are done, grid row j0 is complete and its touched cells are written
- * normalised into grid.Cells (and its scratch left zero again). Each cell receives its pixels in
+ * normalised into its row of grid.RowCells, sized to them (and its scratch left zero again).
+ * Each cell receives its pixels in
  * increasing y, then x, as a loop over one grid row's support would. @a portable: the baseline
  * build of the kernel instead of the best instruction set of this CPU.
  */

@@ -23,81 +23,96 @@ namespace ptv
 namespace HWY_NAMESPACE
 {
 
-/// Level @a g's opacity plane at image row @a y's grid row j0 (j0 + 1 follows it).
-HWY_INLINE const float* AlphaRow(const PushGrid& g, int y)
+/// One image row's two grid rows of a level (j0 and j0 + 1; j0's again where the pixel row's
+/// tent weight on j0 + 1 is 0) and their tent weights.
+struct SliceRowPair
 {
-  return g.Alpha + static_cast<std::size_t>(g.J0[y] + 1) * g.Columns * g.Bins;
+  const float* Cells[2];
+  const int* Start[2];
+  const float* Alpha[2]; ///< the opacity's rows, or null
+  float Ty[2];
+};
+
+/// Cell (column @a c, bin @a k) of row @a row of @a p: its first float.
+HWY_INLINE const float* CellAt(const SliceRowPair& p, int row, int c, int k)
+{
+  return p.Cells[row] + 4 * static_cast<std::size_t>(p.Start[row][c] + k);
 }
 
 /// The opacity sum of the taps the colour's slice weighs at column @a x, bin @a k0 (tents
-/// @a tz0, @a tz1) and grid rows @a alphaRow (weight @a ty0) and the next one (@a ty1); the
-/// colour's kept weight divides it (an empty cell's opacity is 0).
-HWY_INLINE float SliceAlphaSum(const PushGrid& g, const float* alphaRow, int x, int k0,
-  float tz0, float tz1, float ty0, float ty1)
+/// @a tz0, @a tz1) of @a p; the colour's kept weight divides it (an empty cell's opacity is 0).
+HWY_INLINE float SliceAlphaSum(
+  const PushGrid& g, const SliceRowPair& p, int x, int k0, float tz0, float tz1)
 {
-  const std::size_t b = static_cast<std::size_t>(g.Bins);
-  const float* a0 = alphaRow + static_cast<std::size_t>(g.I0[x] + 1) * b + k0;
-  const float* a1 = a0 + static_cast<std::size_t>(g.Columns) * b;
-  const float w00 = g.Tx0[x] * ty0;
-  const float w10 = g.Tx1[x] * ty0;
-  const float w01 = g.Tx0[x] * ty1;
-  const float w11 = g.Tx1[x] * ty1;
-  const float upper = (w00 * tz0) * a0[0] + (w00 * tz1) * a0[1] + (w10 * tz0) * a0[b] +
-    (w10 * tz1) * a0[b + 1];
-  const float lower = (w01 * tz0) * a1[0] + (w01 * tz1) * a1[1] + (w11 * tz0) * a1[b] +
-    (w11 * tz1) * a1[b + 1];
+  const int c = g.I0[x] + 1;
+  const float* a00 = p.Alpha[0] + p.Start[0][c] + k0;
+  const float* a10 = p.Alpha[0] + p.Start[0][c + 1] + k0;
+  const float* a01 = p.Alpha[1] + p.Start[1][c] + k0;
+  const float* a11 = p.Alpha[1] + p.Start[1][c + 1] + k0;
+  const float w00 = g.Tx0[x] * p.Ty[0];
+  const float w10 = g.Tx1[x] * p.Ty[0];
+  const float w01 = g.Tx0[x] * p.Ty[1];
+  const float w11 = g.Tx1[x] * p.Ty[1];
+  const float upper = (w00 * tz0) * a00[0] + (w00 * tz1) * a00[1] + (w10 * tz0) * a10[0] +
+    (w10 * tz1) * a10[1];
+  const float lower = (w01 * tz0) * a01[0] + (w01 * tz1) * a01[1] + (w11 * tz0) * a11[0] +
+    (w11 * tz1) * a11[1];
   return upper + lower;
 }
 
-/// Image row @a y's two grid rows (j0, j0 + 1) and their tent weights, per level.
-HWY_INLINE void SliceGridRows(const SliceInput& in, int y, const float* rows[][2], float* ty0,
-  float* ty1)
+/// Image row @a y's two grid rows per level.
+HWY_INLINE void SliceGridRows(const SliceInput& in, int y, SliceRowPair* pairs)
 {
   for (int l = 0; l < in.NumberOfLevels; ++l)
   {
     const PushGrid& g = in.Levels[l];
-    const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * g.Bins * 4;
-    rows[l][0] = g.Cells + static_cast<std::size_t>(g.J0[y] + 1) * rowFloats;
-    rows[l][1] = rows[l][0] + rowFloats;
-    ty0[l] = g.Ty0[y];
-    ty1[l] = g.Ty1[y];
+    SliceRowPair& p = pairs[l];
+    p.Ty[0] = g.Ty0[y];
+    p.Ty[1] = g.Ty1[y];
+    // The lower row's cells weigh 0 where its tent does: the upper row's (which this pixel
+    // row touched, bin for bin) stand in for them, as the lower row may not hold those bins.
+    const std::size_t r[2] = { static_cast<std::size_t>(g.J0[y] + 1),
+      static_cast<std::size_t>(g.J0[y] + (p.Ty[1] > 0.f ? 2 : 1)) };
+    for (int i = 0; i < 2; ++i)
+    {
+      p.Cells[i] = g.RowCells[r[i]].data();
+      p.Start[i] = g.Start + r[i] * g.Columns;
+      p.Alpha[i] = l == 0 && in.AlphaOut ? g.RowAlpha[r[i]].data() : nullptr;
+    }
   }
 }
 
 #if PTV_GRID_WIDE
-/// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a row0 (weight
-/// @a ty0) and @a row1 (@a ty1): (mean r, g, b, 1) where the taps kept weight, else zero. With
-/// @a alphaRow (AlphaRow) the opacity of the same taps into @a alpha.
-HWY_INLINE hn::Vec<DH> SliceLevelWide(const PushGrid& g, const float* HWY_RESTRICT row0,
-  const float* HWY_RESTRICT row1, float ty0, float ty1, int x, float guide,
-  const float* alphaRow = nullptr, float* alpha = nullptr)
+/// One level's slice at a pixel with guide @a guide in column @a x, grid rows @a p: (mean r, g,
+/// b, 1) where the taps kept weight, else zero. With @a alpha (and the opacity's rows in @a p)
+/// the opacity of the same taps into @a alpha.
+HWY_INLINE hn::Vec<DH> SliceLevelWide(
+  const PushGrid& g, const SliceRowPair& p, int x, float guide, float* alpha = nullptr)
 {
   const D8 d8;
   const DH dh;
-  const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
   const float z = GuideToGrid(guide, g.Geometry.RangeStep);
   const int k0 = FloorToInt(z);
   const float tz0 = Tent(z - static_cast<float>(k0));
   const float tz1 = Tent(z - static_cast<float>(k0 + 1));
   const auto tz = Pair(tz0, tz1);
-  const std::size_t offset =
-    static_cast<std::size_t>(g.I0[x] + 1) * columnFloats + 4 * static_cast<std::size_t>(k0);
-  const float* c00 = row0 + offset; // (j0, i0)
-  const float* c01 = row1 + offset; // (j0 + 1, i0)
+  const int c = g.I0[x] + 1;
+  const float ty0 = p.Ty[0];
+  const float ty1 = p.Ty[1];
   // Two independent sums (grid rows j0 and j0 + 1) halve the dependency chain.
-  auto upper = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty0), tz), hn::LoadU(d8, c00));
-  auto lower = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty1), tz), hn::LoadU(d8, c01));
+  auto upper = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty0), tz), hn::LoadU(d8, CellAt(p, 0, c, k0)));
+  auto lower = hn::Mul(hn::Mul(hn::Set(d8, g.Tx0[x] * ty1), tz), hn::LoadU(d8, CellAt(p, 1, c, k0)));
   upper = hn::MulAdd(
-    hn::Mul(hn::Set(d8, g.Tx1[x] * ty0), tz), hn::LoadU(d8, c00 + columnFloats), upper);
+    hn::Mul(hn::Set(d8, g.Tx1[x] * ty0), tz), hn::LoadU(d8, CellAt(p, 0, c + 1, k0)), upper);
   lower = hn::MulAdd(
-    hn::Mul(hn::Set(d8, g.Tx1[x] * ty1), tz), hn::LoadU(d8, c01 + columnFloats), lower);
+    hn::Mul(hn::Set(d8, g.Tx1[x] * ty1), tz), hn::LoadU(d8, CellAt(p, 1, c + 1, k0)), lower);
   const auto acc = hn::Add(upper, lower);
   const auto total = hn::Add(hn::LowerHalf(dh, acc), hn::UpperHalf(dh, acc));
   const auto weight = hn::Broadcast<3>(total); // the kept weights; 0: every tap dropped
-  if (alphaRow)
+  if (alpha)
   {
     const float kept = hn::GetLane(weight);
-    *alpha = kept > 0.f ? SliceAlphaSum(g, alphaRow, x, k0, tz0, tz1, ty0, ty1) / kept : 0.f;
+    *alpha = kept > 0.f ? SliceAlphaSum(g, p, x, k0, tz0, tz1) / kept : 0.f;
   }
   return hn::IfThenElseZero(hn::Gt(weight, hn::Zero(dh)), hn::Div(total, weight));
 }
@@ -112,25 +127,21 @@ void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
   const auto one = hn::Set(dh, 1.f);
   for (int y = yBegin; y < yEnd; ++y)
   {
-    const float* rows[kMaxGridLevels][2] = {};
-    float ty0[kMaxGridLevels] = {};
-    float ty1[kMaxGridLevels] = {};
-    SliceGridRows(in, y, rows, ty0, ty1);
+    SliceRowPair pairs[kMaxGridLevels];
+    SliceGridRows(in, y, pairs);
     const std::size_t row = static_cast<std::size_t>(y) * in.Width;
-    const float* alphaRow = in.AlphaOut ? AlphaRow(in.Levels[0], y) : nullptr;
     for (int x = 0; x < in.Width; ++x)
     {
       const std::size_t p = row + x;
       const float* guides = in.Guides + p * levels;
-      auto r = SliceLevelWide(in.Levels[0], rows[0][0], rows[0][1], ty0[0], ty1[0], x, guides[0],
-        alphaRow, alphaRow ? in.AlphaOut + p : nullptr);
+      auto r = SliceLevelWide(
+        in.Levels[0], pairs[0], x, guides[0], in.AlphaOut ? in.AlphaOut + p : nullptr);
       if (levels >= 2)
       {
         // Blend: s1 w1 + s2 (1 - w1), or s1 w1 + s2 w2 + s3 (1 - w1 - w2) (ptvBilateralGrid.h)
         const float* w = in.Weights ? in.Weights + p * (levels - 1) : nullptr;
         const float a = SanitizeBlendWeight(w ? w[0] : 0.f);
-        const auto s2 =
-          SliceLevelWide(in.Levels[1], rows[1][0], rows[1][1], ty0[1], ty1[1], x, guides[1]);
+        const auto s2 = SliceLevelWide(in.Levels[1], pairs[1], x, guides[1]);
         if (levels == 2)
         {
           r = hn::MulAdd(s2, hn::Set(dh, 1.f - a), hn::Mul(r, hn::Set(dh, a)));
@@ -139,8 +150,7 @@ void SliceRowsWide(const SliceInput& in, int yBegin, int yEnd)
         {
           const float b = SanitizeBlendWeight(w ? w[1] : 0.f);
           const float c = (1.f - a) - b;
-          const auto s3 =
-            SliceLevelWide(in.Levels[2], rows[2][0], rows[2][1], ty0[2], ty1[2], x, guides[2]);
+          const auto s3 = SliceLevelWide(in.Levels[2], pairs[2], x, guides[2]);
           r = hn::MulAdd(
             s3, hn::Set(dh, c), hn::Add(hn::Mul(r, hn::Set(dh, a)), hn::Mul(s2, hn::Set(dh, b))));
         }
@@ -180,10 +190,8 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
   const int levels = in.NumberOfLevels;
   for (int y = yBegin; y < yEnd; ++y)
   {
-    const float* rows[kMaxGridLevels][2] = {};
-    float ty0[kMaxGridLevels] = {};
-    float ty1[kMaxGridLevels] = {};
-    SliceGridRows(in, y, rows, ty0, ty1);
+    SliceRowPair pairs[kMaxGridLevels];
+    SliceGridRows(in, y, pairs);
     const std::size_t row = static_cast<std::size_t>(y) * in.Width;
     for (int x = 0; x < in.Width; ++x)
     {
@@ -193,21 +201,20 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
       for (int l = 0; l < levels; ++l)
       {
         const PushGrid& g = in.Levels[l];
-        const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
+        const SliceRowPair& pair = pairs[l];
         const float z = GuideToGrid(in.Guides[p * levels + l], g.Geometry.RangeStep);
         const int k0 = FloorToInt(z);
         const float tz0 = Tent(z - static_cast<float>(k0));
         const float tz1 = Tent(z - static_cast<float>(k0 + 1));
-        const std::size_t offset =
-          static_cast<std::size_t>(g.I0[x] + 1) * columnFloats + 4 * static_cast<std::size_t>(k0);
-        const float* c00 = rows[l][0] + offset; // (j0, i0)
-        const float* c01 = rows[l][1] + offset; // (j0 + 1, i0)
-        const float w00 = g.Tx0[x] * ty0[l];
-        const float w10 = g.Tx1[x] * ty0[l];
-        const float w01 = g.Tx0[x] * ty1[l];
-        const float w11 = g.Tx1[x] * ty1[l];
-        const float* c10 = c00 + columnFloats;  // (j0, i0 + 1)
-        const float* c11 = c01 + columnFloats;  // (j0 + 1, i0 + 1)
+        const int c = g.I0[x] + 1;
+        const float* c00 = CellAt(pair, 0, c, k0);     // (j0, i0)
+        const float* c01 = CellAt(pair, 1, c, k0);     // (j0 + 1, i0)
+        const float* c10 = CellAt(pair, 0, c + 1, k0); // (j0, i0 + 1)
+        const float* c11 = CellAt(pair, 1, c + 1, k0); // (j0 + 1, i0 + 1)
+        const float w00 = g.Tx0[x] * pair.Ty[0];
+        const float w10 = g.Tx1[x] * pair.Ty[0];
+        const float w01 = g.Tx0[x] * pair.Ty[1];
+        const float w11 = g.Tx1[x] * pair.Ty[1];
         HWY_ALIGN float sum[4];
         ForCell(
           [&](std::size_t o)
@@ -229,7 +236,7 @@ void SliceRowsKernel(const SliceInput& in, int yBegin, int yEnd)
         if (l == 0 && in.AlphaOut)
         {
           in.AlphaOut[p] = sum[3] > 0.f
-            ? SliceAlphaSum(g, AlphaRow(g, y), x, k0, tz0, tz1, ty0[0], ty1[0]) / sum[3]
+            ? SliceAlphaSum(g, pair, x, k0, tz0, tz1) / sum[3]
             : 0.f;
         }
       }

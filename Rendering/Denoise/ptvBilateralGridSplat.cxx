@@ -17,6 +17,7 @@
 #include <climits>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 HWY_BEFORE_NAMESPACE();
 namespace ptv
@@ -229,10 +230,9 @@ void SplatGridRowsKernel(
   const D4 d;
   const GridLevel& geo = g.Geometry;
   const std::size_t columnFloats = static_cast<std::size_t>(g.Bins) * 4;
-  const std::size_t rowFloats = static_cast<std::size_t>(g.Columns) * columnFloats;
   const float inf = std::numeric_limits<float>::infinity();
   HWY_ALIGN const float limit[4] = { in.Limit, in.Limit, in.Limit, inf }; // weight lane: never
-  const bool withAlpha = in.Alpha && g.Alpha;
+  const bool withAlpha = in.Alpha && g.RowAlpha;
   const auto target = [&](int j, float ty)
   {
     return RowTarget{ s.Cells[j & 1], s.KMin[j & 1], s.KMax[j & 1], ty,
@@ -269,10 +269,39 @@ void SplatGridRowsKernel(
     {
       continue;
     }
-    // Grid row j0 has all its pixels: normalise the touched cells of its own columns into the
-    // level (the padding columns and bin stay zero there) and zero the scratch again.
+    // Grid row j0 has all its pixels: its touched cells, normalised, become its row of the
+    // level (a zero column first, for the padding and untouched columns; the padding bin of a
+    // touched column stays zero), and its scratch is zeroed again.
     const RowTarget done = target(j0, 0.f);
-    float* level = g.Cells + static_cast<std::size_t>(j0 + 1) * rowFloats;
+    const std::size_t r = static_cast<std::size_t>(j0 + 1);
+    int* start = g.Start + r * g.Columns;
+    int kept = g.Bins; // cells of the row: the zero column, then the touched bins
+    for (int c = 0; c < g.Columns; ++c)
+    {
+      const bool inside = c >= 1 && c <= geo.Width && done.KMin[c] <= done.KMax[c];
+      start[c] = inside ? kept - done.KMin[c] : 0;
+      kept += inside ? done.KMax[c] - done.KMin[c] + 1 : 0;
+    }
+    std::vector<float>& cells = g.RowCells[r];
+    std::vector<float>* alphaRow = withAlpha ? &g.RowAlpha[r] : nullptr;
+    const std::size_t size = static_cast<std::size_t>(kept);
+    if (4 * size > cells.capacity()) // a little room, so that the next frames seldom grow it
+    {
+      std::vector<float>().swap(cells);
+      cells.reserve(4 * (size + size / 8));
+    }
+    cells.resize(4 * size);
+    std::fill(cells.begin(), cells.begin() + 4 * g.Bins, 0.f);
+    if (alphaRow)
+    {
+      if (size > alphaRow->capacity())
+      {
+        std::vector<float>().swap(*alphaRow);
+        alphaRow->reserve(size + size / 8);
+      }
+      alphaRow->resize(size);
+      std::fill(alphaRow->begin(), alphaRow->begin() + g.Bins, 0.f);
+    }
     for (int c = 0; c < g.Columns; ++c)
     {
       const int kLo = done.KMin[c];
@@ -283,20 +312,19 @@ void SplatGridRowsKernel(
       }
       float* scratch = done.Cells + static_cast<std::size_t>(c) * columnFloats;
       const bool inside = c >= 1 && c <= geo.Width;
-      const int kLast = kHi < geo.Depth - 1 ? kHi : geo.Depth - 1;
-      for (int k = kLo; inside && k <= kLast; ++k)
+      for (int k = kLo; inside && k <= kHi; ++k)
       {
-        const float w = scratch[4 * k + 3];
-        float* cell = level + static_cast<std::size_t>(c) * columnFloats + 4 * k;
+        const float w = k < geo.Depth ? scratch[4 * k + 3] : 0.f; // bin Depth: padding
+        const std::size_t index = static_cast<std::size_t>(start[c] + k);
+        float* cell = cells.data() + 4 * index;
         // A kept cell becomes (r, g, b, w) / w = (mean, 1); an empty one (0, 0, 0, 0).
         ForCell([&](std::size_t o)
           { hn::StoreU(w > 0.f ? hn::Div(hn::LoadU(d, scratch + 4 * k + o), hn::Set(d, w))
                                 : hn::Zero(d), d, cell + o); });
-        if (withAlpha)
+        if (alphaRow)
         {
-          const std::size_t a = static_cast<std::size_t>(c) * g.Bins + k;
-          g.Alpha[static_cast<std::size_t>(j0 + 1) * g.Columns * g.Bins + a] =
-            w > 0.f ? done.Alpha[a] / w : 0.f;
+          (*alphaRow)[index] =
+            w > 0.f ? done.Alpha[static_cast<std::size_t>(c) * g.Bins + k] / w : 0.f;
         }
       }
       std::fill(scratch + 4 * kLo, scratch + 4 * (kHi + 1), 0.f);

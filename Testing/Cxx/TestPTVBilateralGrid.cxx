@@ -7,7 +7,9 @@
 //      and the output is left untouched; the object works again afterwards;
 //  (d) 1x1 and 4097x3 images (with NaN/Inf/negative radiance) give finite output;
 //  (e) repeated frames of one size allocate nothing: the driver's allocation counter stays
-//      put and the output's "Denoised" array (and its memory) is reused;
+//      put and the output's "Denoised" array (and its memory) is reused; a grid keeps only
+//      the range bins its pixels touch: guides of one value hold a zero column and two bins
+//      per grid column of each row, below 1/8 of the dense grid's cells;
 //  (f) the portable build of the row kernels (BilateralGridSettings::Portable, HWY_SCALAR here)
 //      agrees with the dispatched one (AVX-512/AVX2/SSE4) within 1e-5 of the output range (the
 //      dispatched build contracts multiply-adds into FMAs: one rounding less per term), and a
@@ -490,6 +492,25 @@ void TestNoAllocationGrowth()
   cpu.Apply(settings, 100, 150, data(small.Radiance), data(small.Albedo), data(small.Guides),
     data(small.Weights), out.data());
   Check(cpu.GetAllocationCount() == resized, "driver: stable again after a size change");
+
+  // Sparse cells: with every guide 100.5 (one bin pair per column) the three levels hold
+  // per row a zero column (Bins cells) and two bins of each inner column (4 floats a cell).
+  float* guides = data(f.Guides);
+  std::fill(guides, guides + 3 * 200 * 150, 100.5f);
+  cpu.Apply(settings, 200, 150, data(f.Radiance), data(f.Albedo), data(f.Guides),
+    data(f.Weights), out.data());
+  std::size_t expected = 0, dense = 0;
+  for (int l = 0; l < 3; ++l)
+  {
+    const ptv::GridLevel g = ptv::LevelGeometry(settings, l, 200, 150);
+    const std::size_t rows = g.Height + 2, bins = g.Depth + 1, columns = g.Width + 2;
+    expected += 16 * (rows * bins + g.Height * 2 * g.Width);
+    dense += 16 * rows * columns * bins;
+  }
+  Check(cpu.GetCellBytes() == expected && 8 * expected < dense,
+    "sparse cells: one guide value holds " + std::to_string(cpu.GetCellBytes()) +
+      " bytes of cells (expected " + std::to_string(expected) + ", dense " +
+      std::to_string(dense) + ")");
 
   // The VTK class: the output's "Denoised" array and its memory are reused.
   vtkNew<vtkPTVDenoiser> grid;
