@@ -110,7 +110,7 @@ void BilateralGridCpu::Prepare(
   const BilateralGridSettings& settings, int levels, int width, int height, int blocks, bool alpha)
 {
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  this->Fit(this->Demodulated, pixels * 4);
+  this->Fit(this->RowPixels, 4 * static_cast<std::size_t>(width) * blocks);
   this->Fit(this->RowLuminance, static_cast<std::size_t>(height));
   this->Fit(this->RowLit, static_cast<std::size_t>(height));
   std::size_t scratchColumns = 0;
@@ -214,23 +214,26 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
   this->Prepare(settings, levels, width, height, ResolvedThreads(settings.Threads), alpha);
   float* sanitisedAlpha = alpha ? this->Alpha.data() : nullptr;
 
-  float* demod = this->Demodulated.data();
   double* rowLuminance = this->RowLuminance.data();
   std::size_t* rowLit = this->RowLit.data();
   PushGrid* grid = this->Levels;
   const int blocks = this->Blocks;
 
-  // Phase 1: sanitise + demodulate into (r, g, b, 1), row sums of luminance.
+  // Phase 1: row sums of the sanitised, demodulated luminance (the splat demodulates each
+  // pixel row again as it pushes it: no image of demodulated pixels is kept).
   auto start = std::chrono::steady_clock::now();
-  ParallelFor(settings.Threads, 0, height, 16,
-    [&](vtkIdType rowBegin, vtkIdType rowEnd)
+  ParallelFor(settings.Threads, 0, blocks, 1,
+    [&](vtkIdType blockBegin, vtkIdType blockEnd)
     {
+      const vtkIdType b = blockBegin; // a task's blocks, one after another, share a row
+      float* pixels = this->RowPixels.data() + 4 * static_cast<std::size_t>(width) * b;
+      const vtkIdType rowBegin = static_cast<vtkIdType>(height) * b / blocks;
+      const vtkIdType rowEnd = static_cast<vtkIdType>(height) * blockEnd / blocks;
       for (vtkIdType y = rowBegin; y < rowEnd; ++y)
       {
         const std::size_t p = static_cast<std::size_t>(y) * width;
         const DemodulatedRow row = DemodulateRow(radiance + 3 * p,
-          albedo ? albedo + 3 * p : nullptr, static_cast<std::size_t>(width), demod + 4 * p,
-          portable);
+          albedo ? albedo + 3 * p : nullptr, static_cast<std::size_t>(width), pixels, portable);
         rowLuminance[y] = row.Luminance;
         rowLit[y] = row.Lit;
         for (std::size_t x = 0; alpha && x < static_cast<std::size_t>(width); ++x)
@@ -268,11 +271,14 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
             ? this->AlphaScratch.data() + this->ScratchFloats / 4 * (2 * b + r)
             : nullptr;
         }
+        scratch.Row = this->RowPixels.data() + 4 * static_cast<std::size_t>(width) * b;
         for (int l = 0; l < levels; ++l)
         {
           const int rows = grid[l].Geometry.Height;
           SplatInput in;
-          in.Demodulated4 = demod;
+          in.Radiance = radiance;
+          in.Albedo = albedo;
+          in.Portable = portable;
           in.Guides = guides;
           in.GuideStride = levels;
           in.GuideOffset = l;

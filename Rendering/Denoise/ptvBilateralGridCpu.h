@@ -4,10 +4,10 @@
  *        kernels of ptvBilateralGridRows.h (Highway, dispatched per instruction set), with the
  *        semantics of Kernels/ptvBilateralGrid.h.
  *
- * Three phases: demodulate (parallel over image rows: (r, g, b, 1) pixels and per-row sums of
+ * Three phases: demodulate (parallel over image rows: per-row sums of the demodulated
  * luminance for the outlier limit), splat (a push: parallel over fixed blocks of grid rows, each
- * block owning its rows and a scratch row, all levels in one pass; the clamp is applied as pixels
- * are read), slice + blend + re-modulate (parallel over image rows). Every cell and pixel is
+ * block owning its rows and a scratch row, all levels in one pass; each pixel row demodulated
+ * again as it is pushed, into (r, g, b, 1), and clamped as it is read), slice + blend + re-modulate (parallel over image rows). Every cell and pixel is
  * written by exactly one task in a fixed order and the mean luminance is summed per row and then
  * over rows in order, so the output is bit-identical for any number of threads.
  * Its cost follows the pixels: only cells that some pixel touches are cleared and normalised.
@@ -69,7 +69,7 @@ private:
   void Prepare(const BilateralGridSettings& settings, int levels, int width, int height,
     int blocks, bool alpha);
 
-  std::vector<float> Demodulated;   // W * H * 4: (r, g, b, 1), not clamped
+  std::vector<float> RowPixels;     // per block: W * 4, a pixel row demodulated (r, g, b, 1)
   std::vector<double> RowLuminance; // H row sums of luminance(D)
   std::vector<std::size_t> RowLit;  // H row counts of pixels with luminance(D) > 0
   std::vector<std::vector<float>> RowCells[kMaxGridLevels]; // per level GH + 2 rows of cells

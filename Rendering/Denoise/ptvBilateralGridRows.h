@@ -66,13 +66,17 @@ struct SplatScratch
   int* KMin[2];
   int* KMax[2];
   float* Alpha[2]; ///< with an opacity: Columns * Bins floats per row, zero between rows
+  float* Row;      ///< W pixels (r, g, b, 1): the pixel row being pushed, demodulated
 };
 
-/// What the splat reads: demodulated, clamped-on-the-fly pixels and one level's guides.
+/// What the splat reads: the pixels (demodulated a row at a time as they are pushed, clamped
+/// on the fly) and one level's guides.
 struct SplatInput
 {
-  const float* Demodulated4; ///< W * H pixels, (r, g, b, 1)
-  const float* Guides;       ///< interleaved, GuideStride values per pixel
+  const float* Radiance; ///< W * H RGB pixels
+  const float* Albedo;   ///< W * H RGB pixels, or null: no demodulation
+  bool Portable;         ///< the demodulation's baseline build (the same bits on every target)
+  const float* Guides;   ///< interleaved, GuideStride values per pixel
   int GuideStride;
   int GuideOffset;
   int Width;

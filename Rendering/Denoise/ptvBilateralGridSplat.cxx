@@ -12,6 +12,7 @@
 
 #include "ptvBilateralGridLanes-inl.h"
 #include "ptvBilateralGridRows.h"
+#include "ptvGridDemodulateRows.h"
 
 #include <algorithm>
 #include <climits>
@@ -75,10 +76,10 @@ HWY_INLINE void Touch(const RowTarget& t, int c0, int k0)
  */
 template <bool kUpper, bool kLower>
 HWY_INLINE void PushPixelRow(const SplatInput& in, const PushGrid& g, std::size_t columnFloats,
-  const float* HWY_RESTRICT limit, int y, const RowTarget& upper, const RowTarget& lower)
+  const float* HWY_RESTRICT limit, int y, const float* HWY_RESTRICT demod, const RowTarget& upper,
+  const RowTarget& lower)
 {
   const std::size_t row = static_cast<std::size_t>(y) * in.Width;
-  const float* demod = in.Demodulated4 + 4 * row;
   const std::size_t stride = static_cast<std::size_t>(in.GuideStride);
   const float* guide = in.Guides + row * stride + in.GuideOffset;
   const int rangeStep = g.Geometry.RangeStep;
@@ -252,17 +253,23 @@ void SplatGridRowsKernel(
       const RowTarget lower = target(j0 + 1, g.Ty1[y]);
       const bool u = ownUpper && upper.Ty > 0.f;
       const bool l = ownLower && lower.Ty > 0.f;
+      if (u || l)
+      {
+        const std::size_t p = static_cast<std::size_t>(y) * in.Width;
+        DemodulateRow(in.Radiance + 3 * p, in.Albedo ? in.Albedo + 3 * p : nullptr,
+          static_cast<std::size_t>(in.Width), s.Row, in.Portable);
+      }
       if (u && l)
       {
-        PushPixelRow<true, true>(input, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<true, true>(input, g, columnFloats, limit, y, s.Row, upper, lower);
       }
       else if (u)
       {
-        PushPixelRow<true, false>(input, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<true, false>(input, g, columnFloats, limit, y, s.Row, upper, lower);
       }
       else if (l)
       {
-        PushPixelRow<false, true>(input, g, columnFloats, limit, y, upper, lower);
+        PushPixelRow<false, true>(input, g, columnFloats, limit, y, s.Row, upper, lower);
       }
     }
     if (!ownUpper)
