@@ -70,39 +70,28 @@ void BilateralGridCpu::FitRows(std::vector<std::vector<float>>& rows, std::size_
 }
 
 //------------------------------------------------------------------------------
-std::size_t BilateralGridCpu::RowCapacity() const
+std::size_t BilateralGridCpu::SumOverRows(bool capacity) const
 {
   std::size_t sum = 0;
-  for (int l = 0; l < kMaxGridLevels; ++l)
+  auto add = [&](const std::vector<std::vector<float>>& rows)
   {
-    for (const auto& row : this->RowCells[l])
+    for (const auto& row : rows)
     {
-      sum += row.capacity();
+      sum += capacity ? row.capacity() : row.size();
     }
-  }
-  for (const auto& row : this->RowAlpha)
+  };
+  for (const auto& level : this->RowCells)
   {
-    sum += row.capacity();
+    add(level);
   }
+  add(this->RowAlpha);
   return sum;
 }
 
 //------------------------------------------------------------------------------
 std::size_t BilateralGridCpu::GetCellBytes() const
 {
-  std::size_t floats = 0;
-  for (int l = 0; l < kMaxGridLevels; ++l)
-  {
-    for (const auto& row : this->RowCells[l])
-    {
-      floats += row.size();
-    }
-  }
-  for (const auto& row : this->RowAlpha)
-  {
-    floats += row.size();
-  }
-  return floats * sizeof(float);
+  return this->SumOverRows(false) * sizeof(float);
 }
 
 //------------------------------------------------------------------------------
@@ -255,7 +244,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
 
   // Phase 2: push splat, every level; block b owns a fixed range of each level's grid rows.
   start = std::chrono::steady_clock::now();
-  const std::size_t capacity = this->RowCapacity();
+  const std::size_t capacity = this->SumOverRows(true);
   ParallelFor(settings.Threads, 0, blocks, 1,
     [&](vtkIdType blockBegin, vtkIdType blockEnd)
     {
@@ -292,7 +281,7 @@ void BilateralGridCpu::Apply(const BilateralGridSettings& settings, int width, i
         }
       }
     });
-  if (this->RowCapacity() != capacity) // some rows needed more cells than they had
+  if (this->SumOverRows(true) != capacity) // some rows needed more cells than they had
   {
     ++this->Allocations;
   }

@@ -64,8 +64,8 @@ private:
   /// The storage of @a rows rows of one level (a padding row: its zero column alone).
   void FitRows(std::vector<std::vector<float>>& rows, std::size_t count, std::size_t bins,
     int floatsPerCell);
-  /// Sum of the capacities of the rows' storage (a change is an allocation).
-  std::size_t RowCapacity() const;
+  /// Floats held (@a capacity: allocated; a change is an allocation) by every row of cells.
+  std::size_t SumOverRows(bool capacity) const;
   void Prepare(const BilateralGridSettings& settings, int levels, int width, int height,
     int blocks, bool alpha);
 
