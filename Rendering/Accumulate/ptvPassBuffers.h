@@ -149,10 +149,12 @@ enum class PassSet
 };
 
 /// Whether a PassSet::All buffer makes @a pass only on request (Ensure): the denoiser keeps
-/// its guides and weights in its own layout, copied into these passes when they are read.
+/// its guides and weights in its own layout, and the frame loop the history's counts and the
+/// edge pixels, written into these passes when they are read.
 inline bool IsOnRequestPass(int pass)
 {
-  return pass == PassGuides || pass == PassBlendWeights;
+  return pass == PassGuides || pass == PassBlendWeights || pass == PassHistoryLength ||
+    pass == PassSampleRatio;
 }
 
 class PassBuffers

@@ -218,6 +218,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
   if (IsOnRequestPass(shownPass))
   {
     this->FillGuidePasses();
+    this->FillCountPasses();
   }
   // Denoised and Converged are drawn with their own opacity (DenoiseFrame, Combine).
   const std::size_t pixels = static_cast<std::size_t>(this->Accumulated.GetWidth()) *

@@ -142,6 +142,7 @@ public:
   const PassBuffers& GetPasses()
   {
     this->FillGuidePasses();
+    this->FillCountPasses();
     return this->Accumulated;
   }
   bool GetDenoisedValid() const { return this->DenoisedValid; }
@@ -171,6 +172,8 @@ private:
   bool DenoiseFrame(const FrameRequest& request, FrameMessages& messages);
   /// Copy the last denoise's guides and weights into their passes (once per denoise).
   void FillGuidePasses();
+  /// Write the HistoryLength and SampleRatio passes (once per accumulated frame).
+  void FillCountPasses();
   /// Denoise (when on) and combine; updates EstimatedQuality.
   void Combine(const FrameRequest& request, FrameMessages& messages);
   /// The still render's loop (after the render's first frame).
@@ -223,6 +226,7 @@ private:
   double LastTraceTime = 0.0;
   double LastDenoiseTime = 0.0;
   bool DenoisedValid = false;          ///< Denoised/Guides/BlendWeights match the passes
+  bool CountPassesValid = false;       ///< HistoryLength/SampleRatio hold the last frame's
   bool GuidePassesValid = false;       ///< Guides/BlendWeights hold the last denoise's
   std::vector<std::string> DenoiseKey; ///< settings of the last denoise
   std::string LastError;

@@ -57,7 +57,11 @@ bool FrameLoop::DenoiseFrame(const FrameRequest& request, FrameMessages& message
   {
     passes[p] = acc.Data(p);
   }
-  passes[PassHistoryLength] = acc.Data(PassHistoryLength); // a model's "history" channel
+  if (this->Denoising.ReadsChannelStartingWith(settings, "history"))
+  {
+    this->FillCountPasses(); // a model's "history" channel
+  }
+  passes[PassHistoryLength] = acc.Data(PassHistoryLength);
   // The SampleRatio pass is not given: leaning the edge pixels towards their own means cost
   // the held-out narrow bands 1.1 dB of the shown first frame (docs/decisions.md).
   const double start = Now();

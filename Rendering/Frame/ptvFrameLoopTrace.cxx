@@ -191,17 +191,29 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   }
   this->AccumulatedCamera = this->Params.Camera;
   this->LastViewFrames = this->AccumulatedFrames;
-  this->History.WriteCounts(this->Accumulated.Data(PassHistoryLength), width * height,
-    this->AccumulatedFrames);
-  // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples (the
-  // SampleRatio pass).
-  float* ratio = this->Accumulated.Data(PassSampleRatio);
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  this->CountPassesValid = false; // HistoryLength, SampleRatio: written when read
+}
+
+//------------------------------------------------------------------------------
+void FrameLoop::FillCountPasses()
+{
+  PassBuffers& acc = this->Accumulated;
+  const std::size_t pixels =
+    static_cast<std::size_t>(acc.GetWidth()) * static_cast<std::size_t>(acc.GetHeight());
+  if (this->CountPassesValid || pixels == 0)
+  {
+    return;
+  }
+  this->History.WriteCounts(
+    acc.Ensure(PassHistoryLength), static_cast<int>(pixels), this->AccumulatedFrames);
+  // The last frame's edge pixels hold EdgeSamples times a plain pixel's samples.
+  float* ratio = acc.Ensure(PassSampleRatio);
   std::fill(ratio, ratio + pixels, 1.f);
   for (const std::uint32_t pixel : this->EdgePixels)
   {
     ratio[pixel] = static_cast<float>(this->EdgeSampleCount);
   }
+  this->CountPassesValid = true;
 }
 
 //------------------------------------------------------------------------------
