@@ -62,10 +62,14 @@ void BilateralGridCpu::FitRows(std::vector<std::vector<float>>& rows, std::size_
   {
     return;
   }
-  // The padding rows are never splatted: their zero column alone (the splat writes the others).
+  // The padding rows are never splatted: their zero column alone (the splat writes the others),
+  // set when the rows or the bins change.
   for (const std::size_t r : { std::size_t(0), count - 1 })
   {
-    rows[r].assign(bins * floatsPerCell, 0.f);
+    if (rows[r].size() != bins * floatsPerCell)
+    {
+      rows[r].assign(bins * floatsPerCell, 0.f);
+    }
   }
 }
 

@@ -7,8 +7,8 @@
  * Three phases: demodulate (parallel over image rows: per-row sums of the demodulated
  * luminance for the outlier limit), splat (a push: parallel over fixed blocks of grid rows, each
  * block owning its rows and a scratch row, all levels in one pass; each pixel row demodulated
- * again as it is pushed, into (r, g, b, 1), and clamped as it is read), slice + blend + re-modulate (parallel over image rows). Every cell and pixel is
- * written by exactly one task in a fixed order and the mean luminance is summed per row and then
+ * again as it is pushed, into (r, g, b, 1), and clamped as it is read), slice + blend +
+ * re-modulate (parallel over image rows). Every cell and pixel is written by exactly one task in a fixed order and the mean luminance is summed per row and then
  * over rows in order, so the output is bit-identical for any number of threads.
  * Its cost follows the pixels: only cells that some pixel touches are cleared and normalised.
  *

@@ -107,9 +107,9 @@ struct SliceInput
  * [jBegin - 1, jEnd - 1] is read once and pushed into grid rows j0 and j0 + 1 (those of the
  * range); once the rows of j0 are done, grid row j0 is complete and its touched cells are written
  * normalised into its row of grid.RowCells, sized to them (and its scratch left zero again).
- * Each cell receives its pixels in
- * increasing y, then x, as a loop over one grid row's support would. @a portable: the baseline
- * build of the kernel instead of the best instruction set of this CPU.
+ * Each cell receives its pixels in increasing y, then x, as a loop over one grid row's support
+ * would. @a portable: the baseline build of the kernel instead of the best instruction set of
+ * this CPU.
  */
 void SplatGridRows(const SplatInput& in, PushGrid& grid, SplatScratch& scratch, int jBegin,
   int jEnd, bool portable);

@@ -163,7 +163,7 @@ void FrameLoop::AccumulateFrame(const FrameRequest& request)
   const int height = this->Frame.GetHeight();
   // Without history the accumulated Radiance pass is the shown image's mean M, bit for bit:
   // the statistics read it there (before this frame joins it) instead of keeping their own.
-  const bool plain = this->FrameIsMean || (!this->ViewMoved && !this->History.HasHistory());
+  const bool plain = !this->ViewMoved && !this->History.HasHistory();
   this->Converging.AddFrame(this->Frame.Data(PassRadiance), width, height,
     this->AccumulatedFrames, request.Threads, plain,
     this->FrameIsMean ? nullptr : this->Accumulated.Data(PassRadiance));
