@@ -17,7 +17,7 @@ namespace ptv
 namespace
 {
 // Colour a pass for inspection: opaque, [0,1], misses black.
-void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far, float* rgba)
+void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far, float* rgb)
 {
   const int n = acc.GetWidth() * acc.GetHeight();
   const int comps = GetPassInfo(pass).Components;
@@ -87,9 +87,8 @@ void Colorize(int pass, const PassBuffers& acc, const double* bounds, float far,
     }
     for (int k = 0; k < 3; ++k)
     {
-      rgba[4 * i + k] = std::min(1.0f, std::max(0.0f, c[k]));
+      rgb[3 * i + k] = std::min(1.0f, std::max(0.0f, c[k]));
     }
-    rgba[4 * i + 3] = 1.0f;
   }
 }
 }
@@ -101,31 +100,39 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
   const int width = passes.GetWidth();
   const int height = passes.GetHeight();
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  this->Color.resize(4 * pixels);
-  this->Depth.resize(pixels);
   this->RowCover.resize(2 * static_cast<std::size_t>(std::max(height, 0)));
-  const float far = camera.FarDistance;
   const bool radiance = pass == PassRadiance || pass == PassDenoised || pass == PassConverged;
-  if (!radiance)
+  if (radiance)
   {
-    Colorize(pass, passes, bounds, far, this->Color.data());
+    std::vector<float>().swap(this->Color);
+    std::vector<float>().swap(this->Alpha);
+    this->ShownColor = passes.Data(pass);
+    this->ShownAlpha = shownAlpha ? shownAlpha : passes.Data(PassAlpha);
+  }
+  else
+  {
+    this->Color.resize(3 * pixels);
+    this->Alpha.assign(pixels, 1.0f);
+    Colorize(pass, passes, bounds, camera.FarDistance, this->Color.data());
+    this->ShownColor = this->Color.data();
+    this->ShownAlpha = this->Alpha.data();
   }
 
   // Window depth: only the last two rows of the projection matter (z and w).
   const double aspect = static_cast<double>(width) / static_cast<double>(height);
   vtkMatrix4x4* toNdc =
     ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
-  double zRow[4], wRow[4];
   for (int c = 0; c < 4; ++c)
   {
-    zRow[c] = toNdc->GetElement(2, c);
-    wRow[c] = toNdc->GetElement(3, c);
+    this->ZRow[c] = toNdc->GetElement(2, c);
+    this->WRow[c] = toNdc->GetElement(3, c);
   }
-  const float* rgb = passes.Data(radiance ? pass : PassRadiance);
-  const float* alpha = shownAlpha ? shownAlpha : passes.Data(PassAlpha);
-  const float* depth = passes.Data(PassDepth);
-  float* color = this->Color.data();
-  float* shown = this->Depth.data();
+  this->RayDepth = passes.Data(PassDepth);
+  this->Camera = camera;
+  this->Width = width;
+  this->Threads = threads;
+
+  const float* alpha = this->ShownAlpha;
   int* rowCover = this->RowCover.data();
   ParallelFor(threads, 0, height, 16,
     [&](vtkIdType yBegin, vtkIdType yEnd)
@@ -133,32 +140,13 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
       for (vtkIdType y = yBegin; y < yEnd; ++y)
       {
         int first = width, last = -1; // the row's drawn pixels (alpha not <= 0, as the shader)
+        const float* a = alpha + static_cast<std::size_t>(y) * width;
         for (int x = 0; x < width; ++x)
         {
-          const std::size_t i = static_cast<std::size_t>(y) * width + x;
-          if (radiance)
-          {
-            std::copy(rgb + 3 * i, rgb + 3 * i + 3, color + 4 * i);
-            color[4 * i + 3] = alpha[i];
-          }
-          if (!(color[4 * i + 3] <= 0.0f))
+          if (!(a[x] <= 0.0f))
           {
             first = std::min(first, x);
             last = x;
-          }
-          shown[i] = 1.0f;
-          if (!IsHit(depth[i], far))
-          {
-            continue;
-          }
-          Vec3 o, d;
-          GenerateRay(camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
-          const Vec3 p = o + d * depth[i];
-          const double z = zRow[0] * p.x + zRow[1] * p.y + zRow[2] * p.z + zRow[3];
-          const double w = wRow[0] * p.x + wRow[1] * p.y + wRow[2] * p.z + wRow[3];
-          if (w != 0.0)
-          {
-            shown[i] = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (z / w) + 0.5)));
           }
         }
         rowCover[2 * y] = first;
@@ -182,5 +170,55 @@ void ShownImage::Update(vtkRenderer* ren, const PassBuffers& passes, int pass,
   {
     this->Covered[0] = this->Covered[1] = 0; // nothing drawn
   }
+}
+
+//------------------------------------------------------------------------------
+void ShownImage::WindowDepth(int x0, int y0, int x1, int y1, float* out) const
+{
+  const int width = this->Width;
+  const int columns = x1 - x0;
+  if (!this->RayDepth || columns <= 0 || y1 <= y0)
+  {
+    return;
+  }
+  const float far = this->Camera.FarDistance;
+  const float* depth = this->RayDepth;
+  ParallelFor(this->Threads, y0, y1, 16,
+    [&](vtkIdType yBegin, vtkIdType yEnd)
+    {
+      for (vtkIdType y = yBegin; y < yEnd; ++y)
+      {
+        float* shown = out + static_cast<std::size_t>(y - y0) * columns;
+        for (int x = x0; x < x1; ++x)
+        {
+          const std::size_t i = static_cast<std::size_t>(y) * width + x;
+          float& z = shown[x - x0];
+          z = 1.0f;
+          if (!IsHit(depth[i], far))
+          {
+            continue;
+          }
+          Vec3 o, d;
+          GenerateRay(this->Camera, x + 0.5f, static_cast<float>(y) + 0.5f, o, d);
+          const Vec3 p = o + d * depth[i];
+          const double zc = this->ZRow[0] * p.x + this->ZRow[1] * p.y + this->ZRow[2] * p.z +
+            this->ZRow[3];
+          const double w = this->WRow[0] * p.x + this->WRow[1] * p.y + this->WRow[2] * p.z +
+            this->WRow[3];
+          if (w != 0.0)
+          {
+            z = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * (zc / w) + 0.5)));
+          }
+        }
+      }
+    });
+}
+
+//------------------------------------------------------------------------------
+void ShownImage::Release()
+{
+  std::vector<float>().swap(this->Color);
+  std::vector<float>().swap(this->Alpha);
+  this->ShownColor = this->ShownAlpha = this->RayDepth = nullptr;
 }
 }

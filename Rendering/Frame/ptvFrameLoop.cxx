@@ -155,6 +155,7 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
     }
     ok = this->Inputs.Build(ren, vol, image, request.Scene, width, height, this->ZBuffer,
       this->Params, signature, error);
+    std::vector<float>().swap(this->ZBuffer); // read into the rays' limits: not kept
   }
   if (!ok && !error.empty())
   {
@@ -230,8 +231,11 @@ void FrameLoop::Render(vtkRenderer* ren, vtkVolume* vol, vtkImageData* image,
                                                    : nullptr;
   this->Shown.Update(ren, this->Accumulated, shownPass, this->Params.Camera,
     this->Inputs.GetWorldBounds(), request.Threads, shownAlpha);
-  this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetDepth(),
+  this->Drawing.Draw(ren, width, height, this->Shown.GetColor(), this->Shown.GetAlpha(),
+    [this](int x0, int y0, int x1, int y1, float* out)
+    { this->Shown.WindowDepth(x0, y0, x1, y1, out); },
     this->Shown.GetCovered());
+  this->Shown.Release();
 }
 
 //------------------------------------------------------------------------------

@@ -16,7 +16,7 @@
  *     ptvConvergence -- the denoised image is mixed with the raw mean as the samples make it
  *     unnecessary, and the error of what is shown is estimated (a still render repeats 2.-4.
  *     until that estimate reaches the requested quality);
- *  5. ptvShownImage -- the pass to show becomes premultiplied RGBA and window depth;
+ *  5. ptvShownImage -- the pass to show: premultiplied colour, opacity and window depth;
  *  6. ptvDisplay -- which is drawn into the render window.
  * FrameLoop's own code follows the stages: ptvFrameLoop.cxx (Render: the order above),
  * ptvFrameLoopTrace.cxx (2.-3.), ptvFrameLoopDenoise.cxx (4.), ptvFrameLoopStill.cxx (the still
@@ -204,7 +204,7 @@ private:
   Convergence Converging;
   ShownImage Shown;
   Display Drawing;
-  std::vector<float> ZBuffer;
+  std::vector<float> ZBuffer; ///< the window depth, read for the frame's rays (Render)
   std::vector<std::uint32_t> EdgePixels; ///< the last frame's (ptvEdgeSamples.h)
   std::vector<float> EdgeFirstHits;      ///< their frame sample's Depth and Albedo
   int EdgeSampleCount = 1;               ///< the EdgeSamples they got (1: none)

@@ -1,5 +1,7 @@
-// What the window is given to draw (ptvShownImage.h): premultiplied colour with the Alpha pass,
-// window depth of the first event (1 for misses; a hit's point projected by the camera), and
+// What the window is given to draw (ptvShownImage.h): premultiplied colour with the Alpha pass
+// (the passes themselves, not a copy; the opacity given instead when there is one),
+// window depth of the first event (1 for misses; a hit's point projected by the camera; made
+// for any block of rows and columns, the same values as the whole image's), and
 // the rectangle of drawn pixels that ptvDisplay draws under a scissor box. The rectangle must
 // hold every pixel the shader would draw (alpha not <= 0, NaN included) and nothing more;
 // empty when nothing is drawn; the whole image for the opaque inspection passes. Thread counts
@@ -86,7 +88,7 @@ void TestRadiance()
   f.Draw(kHit1[0], kHit1[1], 1.0f, 9.5f);
   f.Draw(kHit2[0], kHit2[1], std::numeric_limits<float>::quiet_NaN(), 9.2f); // NaN: drawn
   f.Draw(kHit3[0], kHit3[1], -0.25f, 9.1f); // alpha <= 0: not drawn (its depth still counts)
-  std::vector<float> color1, depth1;
+  std::vector<float> depth1;
   for (int threads : { 1, 2, 3 })
   {
     ptv::ShownImage shown;
@@ -96,17 +98,29 @@ void TestRadiance()
       "threads " + std::to_string(threads) + ": covered rectangle " + Rect(r) +
         ", expected [5, 7, 31, 26)");
     const float* color = shown.GetColor();
-    const float* depth = shown.GetDepth();
+    std::vector<float> whole(static_cast<std::size_t>(kWidth * kHeight), -1.f);
+    shown.WindowDepth(0, 0, kWidth, kHeight, whole.data());
+    const float* depth = whole.data();
+    // A block of rows and columns (what ptvDisplay asks a band at a time): the same values.
+    std::vector<float> block(static_cast<std::size_t>(9 * 13), -1.f);
+    shown.WindowDepth(4, 6, 17, 15, block.data());
+    bool same = true;
+    for (int y = 6; y < 15; ++y)
+    {
+      for (int x = 4; x < 17; ++x)
+      {
+        same = same && std::memcmp(&block[(y - 6) * 13 + (x - 4)], &depth[y * kWidth + x],
+                         sizeof(float)) == 0;
+      }
+    }
+    Check(same, "the window depth of a block is the whole image's there");
     const float* rgb = f.Passes.Data(ptv::PassRadiance);
     const float* alpha = f.Passes.Data(ptv::PassAlpha);
-    bool copied = true, misses = true;
+    Check(color == rgb && shown.GetAlpha() == alpha,
+      "colour and opacity are the Radiance and Alpha passes themselves");
+    bool misses = true;
     for (int i = 0; i < kWidth * kHeight; ++i)
     {
-      for (int c = 0; c < 3; ++c)
-      {
-        copied = copied && color[4 * i + c] == rgb[3 * i + c];
-      }
-      copied = copied && std::memcmp(&color[4 * i + 3], &alpha[i], sizeof(float)) == 0;
       bool hit = false;
       for (const int* px : { kHit0, kHit1, kHit2, kHit3 })
       {
@@ -114,7 +128,6 @@ void TestRadiance()
       }
       misses = misses && (hit || depth[i] == 1.0f);
     }
-    Check(copied, "colour is the radiance with the Alpha pass");
     Check(misses, "misses have window depth 1");
     // Each hit's window depth: its point (the pixel's centre ray at the event distance)
     // through the camera's projection, 0.5 z/w + 0.5.
@@ -136,15 +149,22 @@ void TestRadiance()
     }
     if (threads == 1)
     {
-      color1.assign(color, color + 4 * kWidth * kHeight);
       depth1.assign(depth, depth + kWidth * kHeight);
     }
     else
     {
-      Check(std::memcmp(color1.data(), color, color1.size() * sizeof(float)) == 0 &&
-          std::memcmp(depth1.data(), depth, depth1.size() * sizeof(float)) == 0,
-        "threads " + std::to_string(threads) + ": same colour and depth as one thread");
+      Check(std::memcmp(depth1.data(), depth, depth1.size() * sizeof(float)) == 0,
+        "threads " + std::to_string(threads) + ": same depth as one thread");
     }
+    // Given an opacity (the denoised one), that is drawn instead of the Alpha pass.
+    std::vector<float> given(static_cast<std::size_t>(kWidth * kHeight), 0.0f);
+    given[5] = 0.75f;
+    shown.Update(f.Renderer, f.Passes, ptv::PassRadiance, f.Camera, f.Bounds, threads,
+      given.data());
+    Check(shown.GetAlpha() == given.data() && SameRect(shown.GetCovered(), 5, 0, 6, 1),
+      "the given opacity is drawn: covered " + Rect(shown.GetCovered()) + ", expected [5, 0, 6, 1)");
+    shown.Release();
+    Check(!shown.GetColor() && !shown.GetAlpha(), "Release lets go of the image");
   }
 }
 
@@ -171,6 +191,20 @@ void TestInspectionPass()
   const int* r = shown.GetCovered();
   Check(SameRect(r, 0, 0, kWidth, kHeight),
     "an inspection pass is opaque: the whole image, got " + Rect(r));
+  // Its own colour (0.5 n + 0.5, misses black) with opacity 1.
+  float* normal = f.Passes.Data(ptv::PassNormal);
+  normal[3 * (4 * kWidth + 3) + 2] = 1.0f; // the hit's normal: +z
+  shown.Update(f.Renderer, f.Passes, ptv::PassNormal, f.Camera, f.Bounds, 2);
+  const float* color = shown.GetColor();
+  const float* alpha = shown.GetAlpha();
+  bool opaque = color != normal;
+  for (int i = 0; i < kWidth * kHeight; ++i)
+  {
+    opaque = opaque && alpha[i] == 1.0f;
+  }
+  const float* hit = color + 3 * (4 * kWidth + 3);
+  Check(opaque && hit[0] == 0.5f && hit[1] == 0.5f && hit[2] == 1.0f && color[0] == 0.0f,
+    "an inspection pass: its own RGB (0.5 n + 0.5; misses black), opacity 1");
 }
 }
 
