@@ -318,12 +318,13 @@ void SetLighting(vtkRenderer* ren, const FrameSettings& settings, const double b
 bool SetGeometryLimits(const std::vector<float>& zbuffer, const CameraRays& camera,
   const double worldFromNdc[16], std::vector<float>& maxDistance, FrameSignature& signature)
 {
-  maxDistance.clear();
   const int width = camera.Width;
   const int height = camera.Height;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   bool anyGeometry = false;
-  if (zbuffer.size() == pixels)
+  // Memory only when something is drawn (a depth below 1; NaN counts, as below).
+  if (zbuffer.size() == pixels &&
+    std::any_of(zbuffer.begin(), zbuffer.end(), [](float z) { return !(z >= 1.0f); }))
   {
     maxDistance.assign(pixels, std::numeric_limits<float>::infinity());
     double hash = 0.0;
@@ -354,7 +355,7 @@ bool SetGeometryLimits(const std::vector<float>& zbuffer, const CameraRays& came
   }
   if (!anyGeometry)
   {
-    maxDistance.clear();
+    std::vector<float>().swap(maxDistance);
   }
   return anyGeometry;
 }

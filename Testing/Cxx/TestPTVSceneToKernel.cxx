@@ -251,8 +251,9 @@ void TestCameraAndGeometry()
       std::to_string(limits.empty() ? -1.0 : limits[3 * 9 + 4]) + " vs " +
       std::to_string(distance) + "); depth 1 is no limit");
   std::vector<float> empty(9 * 7, 1.0f);
-  Check(!ptv::SetGeometryLimits(empty, rays, worldFromNdc, limits, signature) && limits.empty(),
-    "no geometry: no limits");
+  Check(!ptv::SetGeometryLimits(empty, rays, worldFromNdc, limits, signature) && limits.empty() &&
+      limits.capacity() == 0,
+    "no geometry: no limits, and no memory held for them");
 }
 
 void TestLighting()
