@@ -161,7 +161,16 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
   const int netWidth = ReducedSize(width, stride);
   const int netHeight = ReducedSize(height, stride);
   const std::size_t netPixels = static_cast<std::size_t>(netWidth) * netHeight;
-  this->Features.resize(channels.size() * netPixels);
+  // Made a band at a time when the network runs in bands: never kept for the whole image.
+  const bool bands = !given.Features && this->Session.RunsInBands(netHeight, netWidth);
+  if (bands)
+  {
+    std::vector<float>().swap(this->Features);
+  }
+  else
+  {
+    this->Features.resize(channels.size() * netPixels);
+  }
   if (given.Features)
   {
     if (given.FeatureChannels != static_cast<int>(channels.size()))
@@ -193,18 +202,33 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
       }
     }
   }
-  else if (!this->FeatureMaker.Build(passes, width, height, channels, stride, settings.Threads,
-             portable, this->Features.data(), error))
+  else if (bands ? !this->FeatureMaker.Prepare(passes, width, height, channels, stride,
+                     settings.Threads, error)
+                 : !this->FeatureMaker.Build(passes, width, height, channels, stride,
+                     settings.Threads, portable, this->Features.data(), error))
   {
     return false; // a pass the model needs is missing: the caller's input is incomplete
   }
-  const double t1 = NowMs();
-  this->Timings.Features = t1 - t0;
+  const double featureMs = NowMs() - t0;
+  double bandFeatureMs = 0.0; // the bands' features, made during the run
   const int modelLevels = this->Session.GetNumberOfLevels();
   this->NetOutput.resize(static_cast<std::size_t>(this->Session.GetNumberOfOutputs()) * netPixels);
   std::string runError;
-  if (!this->Session.Run(this->Features.data(), netHeight, netWidth, this->NetOutput.data(),
-        runError))
+  const double runStart = NowMs();
+  const bool ran = bands
+    ? this->Session.Run(
+        [&](int first, int last, float* planes)
+        {
+          const double start = NowMs();
+          this->FeatureMaker.Rows(first, last, settings.Threads, portable, planes);
+          bandFeatureMs += NowMs() - start;
+        },
+        netHeight, netWidth, this->NetOutput.data(), runError)
+    : this->Session.Run(this->Features.data(), netHeight, netWidth, this->NetOutput.data(),
+        runError);
+  this->Timings.Features = featureMs + bandFeatureMs;
+  const double t1 = runStart + bandFeatureMs; // GuideNet's time: the run's, less its features
+  if (!ran)
   {
     this->NetworkActive = false;
     this->ModelProblem = runError;
@@ -243,6 +267,10 @@ bool Denoiser::RunNetwork(const DenoiserSettings& settings, const float* const* 
   this->Upsampler.Run(this->NetOutput.data(), netWidth, netHeight, stride, width, height, levels,
     modelLevels, static_cast<float>(this->Session.GetGuideScale()), settings.Threads, portable,
     this->Guides.data(), this->Weights.data());
+  if (bands)
+  {
+    std::vector<float>().swap(this->NetOutput); // upsampled: not kept for a big image
+  }
   this->Timings.GuideNet = NowMs() - t1;
   this->Status = "GuideNet " + source + ", " + std::to_string(levels) + " levels" +
     (stride > 1 ? ", guides at 1/" + std::to_string(stride) + " resolution" : "") +

@@ -209,8 +209,24 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   const std::vector<std::string>& channels, int stride, int threads, bool portable, float* out,
   std::string& error)
 {
+  if (!this->Prepare(passes, width, height, channels, stride, threads, error))
+  {
+    return false;
+  }
+  this->Rows(0, ReducedSize(height, this->Stride), threads, portable, out);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool FeatureBuilder::Prepare(const float* const* passes, int width, int height,
+  const std::vector<std::string>& channels, int stride, int threads, std::string& error)
+{
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   const int s = stride < 1 ? 1 : stride;
+  this->Width = width;
+  this->Height = height;
+  this->Stride = s;
+  this->Passes.assign(passes, passes + PassCount);
   this->Plans.resize(channels.size()); // kept between frames: no allocation
   for (std::size_t i = 0; i < channels.size(); ++i)
   {
@@ -240,14 +256,9 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
   this->RowHigh.resize(static_cast<std::size_t>(height));
   this->RowFar.resize(static_cast<std::size_t>(height));
   this->RowAny.resize(static_cast<std::size_t>(height));
-  const int blocks = ResolvedThreads(threads);
-  this->Scratch.resize(static_cast<std::size_t>(blocks) * static_cast<std::size_t>(width));
 
   // Per channel: the hit limit of its depth pass (d < 0.999 max d, features.py: hit_mask) and
   // the min / max of its values over the hits; per-row reductions, then rows in order.
-  const int reducedW = ReducedSize(width, s);
-  const int reducedH = ReducedSize(height, s);
-  const std::size_t plane = static_cast<std::size_t>(reducedW) * reducedH;
   for (Plan& plan : this->Plans)
   {
     const Channel& c = plan.Source;
@@ -313,6 +324,25 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
     r.Low = lo;
     r.Range = hi - lo;
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void FeatureBuilder::Rows(int first, int last, int threads, bool portable, float* out)
+{
+  const int width = this->Width;
+  const int height = this->Height;
+  const int s = this->Stride;
+  const float* const* passes = this->Passes.data();
+  const int reducedW = ReducedSize(width, s);
+  const int rows = last - first;
+  if (rows <= 0 || width <= 0 || height <= 0)
+  {
+    return;
+  }
+  const std::size_t plane = static_cast<std::size_t>(reducedW) * static_cast<std::size_t>(rows);
+  const int blocks = std::min(ResolvedThreads(threads), rows);
+  this->Scratch.resize(static_cast<std::size_t>(blocks) * static_cast<std::size_t>(width));
 
   // The features, pooled to the network's resolution; fixed blocks of its rows, each with
   // a scratch row: each channel's full-resolution rows are transformed there (the colour's
@@ -323,15 +353,15 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
       for (vtkIdType b = b0; b < b1; ++b)
       {
         float* scratch = this->Scratch.data() + static_cast<std::size_t>(b) * width;
-        const vtkIdType first = reducedH * b / blocks;
-        const vtkIdType last = reducedH * (b + 1) / blocks;
-        for (vtkIdType i = first; i < last; ++i)
+        const vtkIdType begin = first + static_cast<vtkIdType>(rows) * b / blocks;
+        const vtkIdType end = first + static_cast<vtkIdType>(rows) * (b + 1) / blocks;
+        for (vtkIdType i = begin; i < end; ++i)
         {
           const int ii = static_cast<int>(i);
           for (std::size_t ci = 0; ci < this->Plans.size(); ++ci)
           {
             const Plan& plan = this->Plans[ci];
-            float* row = out + ci * plane + static_cast<std::size_t>(i) * reducedW;
+            float* row = out + ci * plane + static_cast<std::size_t>(i - first) * reducedW;
             if (s == 1)
             {
               TransformRow(plan.Source, plan.Range, passes, ii, width, portable, row);
@@ -363,6 +393,5 @@ bool FeatureBuilder::Build(const float* const* passes, int width, int height,
         }
       }
     });
-  return true;
 }
 }

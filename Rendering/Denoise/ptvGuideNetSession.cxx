@@ -354,8 +354,7 @@ bool GuideNetSession::Load(const std::string& path, std::string& error)
 }
 
 //------------------------------------------------------------------------------
-bool GuideNetSession::Run(
-  const float* features, int height, int width, float* out, std::string& error)
+bool GuideNetSession::CanRun(int height, int width, std::string& error) const
 {
   error.clear();
   if (!this->IsLoaded())
@@ -363,47 +362,91 @@ bool GuideNetSession::Run(
     error = "no GuideNet model loaded";
     return false;
   }
-  if (!features || !out || height <= 0 || width <= 0)
+  if (height <= 0 || width <= 0)
   {
     error = "empty input (" + std::to_string(width) + " x " + std::to_string(height) + ")";
     return false;
   }
-  Internals& in = *this->Impl;
-  const int64_t c = this->GetNumberOfInputChannels();
-  const int64_t o = this->GetNumberOfOutputs();
-  const int64_t h = height;
-  const int64_t w = width;
+  const Internals& in = *this->Impl;
   for (const auto* shape : { &in.InputShape, &in.OutputShape })
   {
-    if (((*shape)[2] >= 0 && (*shape)[2] != h) || ((*shape)[3] >= 0 && (*shape)[3] != w))
+    if (((*shape)[2] >= 0 && (*shape)[2] != height) || ((*shape)[3] >= 0 && (*shape)[3] != width))
     {
       error = this->Path + ": the model has a fixed size " + ShapeString(*shape) +
         ", the input is " + std::to_string(width) + " x " + std::to_string(height);
       return false;
     }
   }
-  const std::size_t rowPixels = static_cast<std::size_t>(w);
-  if (this->TileHalo < 0 || in.InputShape[2] >= 0 ||
-    static_cast<std::size_t>(h) * rowPixels <= this->TilePixels)
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::RunsInBands(int height, int width) const
+{
+  return this->IsLoaded() && this->TileHalo >= 0 && this->Impl->InputShape[2] < 0 &&
+    static_cast<std::size_t>(std::max(height, 0)) * static_cast<std::size_t>(std::max(width, 0)) >
+    this->TilePixels;
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::Run(
+  const float* features, int height, int width, float* out, std::string& error)
+{
+  if (!features || !out)
   {
-    return this->RunRows(features, height, width, out, error);
+    error = "empty input (" + std::to_string(width) + " x " + std::to_string(height) + ")";
+    return false;
   }
+  if (!this->RunsInBands(height, width))
+  {
+    return this->CanRun(height, width, error) && this->RunRows(features, height, width, out, error);
+  }
+  const std::size_t plane = static_cast<std::size_t>(height) * static_cast<std::size_t>(width);
+  const int64_t c = this->GetNumberOfInputChannels();
+  return this->Run(
+    [&](int first, int last, float* planes)
+    {
+      const std::size_t band = static_cast<std::size_t>(last - first) * width;
+      for (int64_t k = 0; k < c; ++k)
+      {
+        const float* from = features + k * plane + static_cast<std::size_t>(first) * width;
+        std::copy(from, from + band, planes + k * band);
+      }
+    },
+    height, width, out, error);
+}
+
+//------------------------------------------------------------------------------
+bool GuideNetSession::Run(
+  const BandInput& input, int height, int width, float* out, std::string& error)
+{
+  if (!out || !this->CanRun(height, width, error))
+  {
+    if (error.empty())
+    {
+      error = "no output buffer";
+    }
+    return false;
+  }
+  Internals& in = *this->Impl;
+  const int64_t c = this->GetNumberOfInputChannels();
+  const int64_t o = this->GetNumberOfOutputs();
+  const std::size_t rowPixels = static_cast<std::size_t>(width);
   // Bands of rows, each with the rows its convolutions reach: the same output, run by run.
-  const int rows = static_cast<int>(std::max<std::size_t>(this->TilePixels / rowPixels, 1));
-  const std::size_t plane = static_cast<std::size_t>(h) * rowPixels;
+  const int rows = this->RunsInBands(height, width)
+    ? static_cast<int>(std::max<std::size_t>(this->TilePixels / rowPixels, 1))
+    : height;
+  const int halo = std::max(this->TileHalo, 0);
+  const std::size_t plane = static_cast<std::size_t>(height) * rowPixels;
   for (int t0 = 0; t0 < height; t0 += rows)
   {
     const int t1 = std::min(t0 + rows, height);
-    const int in0 = std::max(t0 - this->TileHalo, 0);
-    const int in1 = std::min(t1 + this->TileHalo, height);
+    const int in0 = std::max(t0 - halo, 0);
+    const int in1 = std::min(t1 + halo, height);
     const std::size_t band = static_cast<std::size_t>(in1 - in0) * rowPixels;
     in.TileIn.resize(static_cast<std::size_t>(c) * band);
     in.TileOut.resize(static_cast<std::size_t>(o) * band);
-    for (int64_t k = 0; k < c; ++k)
-    {
-      const float* from = features + k * plane + in0 * rowPixels;
-      std::copy(from, from + band, in.TileIn.data() + k * band);
-    }
+    input(in0, in1, in.TileIn.data());
     if (!this->RunRows(in.TileIn.data(), in1 - in0, width, in.TileOut.data(), error))
     {
       return false;

@@ -20,6 +20,7 @@
 #define ptvGuideNetSession_h
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -59,6 +60,18 @@ public:
    * network's: the image's divided by GetGuideStride(), rounded up.
    */
   bool Run(const float* features, int height, int width, float* out, std::string& error);
+
+  /// Writes rows [first, last) of the features (C planes of (last - first) x W) into planes.
+  using BandInput = std::function<void(int first, int last, float* planes)>;
+  /**
+   * Run, with the features made a band of rows at a time by @a input (each band with the rows
+   * its convolutions reach): they are never needed for the whole image. One band when
+   * RunsInBands() is false.
+   */
+  bool Run(const BandInput& input, int height, int width, float* out, std::string& error);
+
+  /// Whether Run goes in bands of rows for H x W network pixels (SetTilePixels).
+  bool RunsInBands(int height, int width) const;
 
   /**
    * Above this many network pixels (default 2^17) Run goes in bands of rows, each with the
@@ -100,6 +113,8 @@ public:
   static std::string GetRuntimeVersion();
 
 private:
+  /// Run's checks of the session and the sizes.
+  bool CanRun(int height, int width, std::string& error) const;
   /// One ONNX Runtime run on @a height rows (Run's checks done).
   bool RunRows(const float* features, int height, int width, float* out, std::string& error);
 

@@ -8,11 +8,15 @@
 //  - stride 2: each output is the mean of its 2 x 2 block, edges replicated (the same formulas
 //    box-averaged, 1e-5);
 //  - 1 and 2 threads, and the portable row kernel, agree (1e-6);
+//  - made a band of rows at a time (Prepare, then Rows), bit for bit Build's rows, at strides 1
+//    and 2 (issue #62: the network's bands never need the whole image's features);
 //  - an unknown channel and a missing pass are errors naming the channel.
 // GuideNetSession on the shipped model: its metadata (known channels, 2L - 1 outputs or more,
 // a stride >= 1) and one run on zero features: finite guides in [0, 1]; run in bands of rows
 // (issue #62: a big image's activations), the same output as one run within 1e-6 (the bands
-// reach 2 rows beyond themselves, the model's two 3 x 3 convolutions); a missing file, a text
+// reach 2 rows beyond themselves, the model's two 3 x 3 convolutions), also with each band's
+// features made when the band runs (exactly the rows it asks for: the band and 2 rows either
+// side, clipped to the image; bit for bit the bands run on the whole features); a missing file, a text
 // file and a run without a model are errors naming the problem.
 #include "ptvDataDirectory.h"
 #include "ptvFeatures.h"
@@ -25,6 +29,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -205,6 +210,31 @@ void TestFeatureFormulas(std::mt19937& rng)
   }
   Check(worstParity <= 1e-6, "threads and the portable kernel agree");
 
+  // A band of rows at a time: Build's rows, bit for bit.
+  for (const int stride : { 1, 2 })
+  {
+    const int rows = ptv::ReducedSize(H, stride), cols = ptv::ReducedSize(W, stride);
+    std::vector<float> whole(kChannels.size() * rows * cols);
+    builder.Build(p.Pointers, W, H, kChannels, stride, 2, false, whole.data(), error);
+    Check(builder.Prepare(p.Pointers, W, H, kChannels, stride, 2, error), "Prepare (" + error + ")");
+    bool same = true;
+    for (int first = 0; first < rows; ++first)
+    {
+      for (int last = first + 1; last <= rows; ++last)
+      {
+        const int n = last - first;
+        std::vector<float> band(kChannels.size() * n * cols, -7.f);
+        builder.Rows(first, last, 2, false, band.data());
+        for (std::size_t ch = 0; ch < kChannels.size(); ++ch)
+        {
+          same = same && std::equal(band.begin() + ch * n * cols, band.begin() + (ch + 1) * n * cols,
+                           whole.begin() + (ch * rows + first) * cols);
+        }
+      }
+    }
+    Check(same, "stride " + std::to_string(stride) + ": every band of rows is Build's rows");
+  }
+
   const std::vector<std::string> unknown = { "color.r", "sparkle" };
   Check(!builder.Build(p.Pointers, W, H, unknown, 1, 1, false, out.data(), error) &&
       error.find("sparkle") != std::string::npos,
@@ -284,6 +314,36 @@ void TestGuideNetSession(const std::string& temp)
   Check(ran && ranBands && worst <= 1e-6f,
     "bands of 5 rows give the whole run's output (largest difference " + std::to_string(worst) +
       ")");
+  // The same bands with their features made when each runs: the rows asked for, and the output.
+  const int c = session.GetNumberOfInputChannels();
+  std::vector<std::pair<int, int>> asked;
+  std::vector<float> made(whole.size(), -3.f);
+  session.SetTilePixels(5 * bw);
+  const bool ranMade = session.Run(
+    [&](int first, int last, float* planes)
+    {
+      asked.emplace_back(first, last);
+      const std::size_t band = static_cast<std::size_t>(last - first) * bw;
+      for (int k = 0; k < c; ++k)
+      {
+        const float* from = noisy.data() + static_cast<std::size_t>(k) * bh * bw + first * bw;
+        std::copy(from, from + band, planes + k * band);
+      }
+    },
+    bh, bw, made.data(), error);
+  session.SetTilePixels(std::size_t(1) << 17);
+  bool rowsAsked = asked.size() == 8;
+  for (std::size_t b = 0; b < asked.size(); ++b)
+  {
+    const int t0 = 5 * static_cast<int>(b);
+    rowsAsked = rowsAsked && asked[b].first == std::max(t0 - 2, 0) &&
+      asked[b].second == std::min(t0 + 5 + 2, bh);
+  }
+  Check(ranMade && rowsAsked && made == banded,
+    "bands whose features are made as they run: 8 bands of the rows they reach, the banded "
+    "run's output bit for bit");
+  Check(session.RunsInBands(bh, 1 << 13) && !session.RunsInBands(bh, bw),
+    "runs in bands above 2^17 network pixels only");
 
   ptv::GuideNetSession other;
   Check(!other.Load("/nonexistent/guidenet.onnx", error) && !other.IsLoaded() &&
