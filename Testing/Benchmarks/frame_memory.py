@@ -37,19 +37,28 @@ def peak_resident_bytes() -> int:
     raise RuntimeError("no VmHWM in /proc/self/status")
 
 
-def measure_one(mapper: str, size: int, still: bool) -> Dict[str, float]:
-    """Renders the head once at size x size with ``mapper``; the peak memory and seconds."""
+def measure_one(mapper: str, size: int, still: bool, dolly: float) -> Dict[str, float]:
+    """Renders the head once at size x size with ``mapper``; the peak memory, seconds and the
+    share of the window the volume's bounding rectangle covers (the path tracer's display
+    textures are that rectangle's)."""
     if str(ROOT / "Python") not in sys.path:
         sys.path.append(str(ROOT / "Python"))
     from pathtracedvolume.scene import Scene
 
     scene = Scene.of_dataset("head", (size, size), azimuth=30.0, elevation=10.0, mapper=mapper)
+    scene.view(30.0, 10.0, dolly)
     if mapper == "pathtraced" and still:
         scene.mapper.ConvergeStillRendersOn()
     start = time.perf_counter()
     scene.window.Render()
     seconds = time.perf_counter() - start
-    return {"peak": float(peak_resident_bytes()), "seconds": seconds}
+    covered = float("nan")
+    if mapper == "pathtraced":
+        alpha = scene.get_pass("Alpha").reshape(size, size)
+        rows, cols = np.nonzero(alpha > 0)
+        covered = 0.0 if rows.size == 0 else float(
+            (np.ptp(rows) + 1) * (np.ptp(cols) + 1)) / float(size * size)
+    return {"peak": float(peak_resident_bytes()), "seconds": seconds, "covered": covered}
 
 
 def main() -> None:
@@ -58,10 +67,12 @@ def main() -> None:
                         help="window sizes (square; default 256 512 1024 2048)")
     parser.add_argument("--still", action="store_true",
                         help="the path tracer converges a still render instead of one frame")
+    parser.add_argument("--dolly", type=float, default=1.0,
+                        help="camera dolly (default 1; larger fills more of the window)")
     parser.add_argument("--one", nargs=2, metavar=("MAPPER", "SIZE"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
-        print(json.dumps(measure_one(args.one[0], int(args.one[1]), args.still)))
+        print(json.dumps(measure_one(args.one[0], int(args.one[1]), args.still, args.dolly)))
         return
     if len(args.sizes) < 2:
         parser.error("--sizes needs at least two sizes for a slope")
@@ -69,7 +80,8 @@ def main() -> None:
     rows: Dict[str, List[Dict[str, float]]] = {m: [] for m in MAPPERS}
     for size in args.sizes:
         for mapper in MAPPERS:  # interleaved, each in a fresh process
-            command = [sys.executable, __file__, "--one", mapper, str(size)]
+            command = [sys.executable, __file__, "--one", mapper, str(size), "--dolly",
+                       str(args.dolly)]
             if args.still:
                 command.append("--still")
             out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
@@ -77,7 +89,7 @@ def main() -> None:
             row["size"] = size
             rows[mapper].append(row)
             print(f"{mapper:10s} {size:5d}^2  peak {row['peak'] / 2**20:8.1f} MiB"
-                  f"  render {row['seconds']:6.2f} s", flush=True)
+                  f"  render {row['seconds']:6.2f} s  covered {row['covered']:.2f}", flush=True)
     for mapper in MAPPERS:
         pixels = np.array([r["size"] ** 2 for r in rows[mapper]], dtype=float)
         peaks = np.array([r["peak"] for r in rows[mapper]])
